@@ -1,0 +1,12 @@
+"""eomgen: symbolic equations of motion of multibody systems, M(q) u̇ + b(q, u) + g(q) = τ + Sᵀ τ_a,
+derived by several methods and turned into verified numeric code."""
+from .codegen import codegen
+from .eom import EquationsOfMotion
+from .errors import ModelError
+from .kinematics import Kinematics
+from .methods import derive
+from .model import Fixed, Placement, Prismatic, Revolute, System
+
+__all__ = ["EquationsOfMotion", "Fixed", "Kinematics", "ModelError", "Placement", "Prismatic",
+           "Revolute", "System", "codegen", "derive"]
+__version__ = "0.1.0"

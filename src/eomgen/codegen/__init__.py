@@ -1,0 +1,87 @@
+"""Numeric functions from the equations of motion."""
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+import sympy as sp
+
+from ..eom import EquationsOfMotion
+from ..errors import ModelError
+from .numpy_backend import compile_function, function_source
+
+BACKENDS = ("numpy",)
+
+
+class NumericEoM:
+    """Numeric M(q), b(q, u), g(q), tau(q, u), T(q, u), U(q) and forward dynamics of one
+    `EquationsOfMotion`. Symbolic parameters (see `params`) are given as a mapping from the
+    symbol or its name to a value in each call."""
+
+    def __init__(self, eom: EquationsOfMotion) -> None:
+        self.eom = eom
+        self.nq = len(eom.q)
+        self.params = sorted(eom.system.parameters, key=str)
+        inputs = {"q": list(eom.q), "u": list(eom.u), "p": self.params}
+        self.sources: dict[str, str] = {}
+        self._functions = {}
+        tau = sp.zeros(self.nq, 1)
+        for name in eom.load_names:
+            tau += eom.compact[f"tau:{name}"]
+        for name, expr in [("M", eom.compact["M"]), ("b", eom.compact["b"]), ("g", eom.compact["g"]),
+                           ("tau", tau), ("T", eom.compact["T"]), ("U", eom.compact["U"])]:
+            self.sources[name] = function_source(name, expr, eom.subexpressions, inputs)
+            self._functions[name] = compile_function(self.sources[name], name)
+
+    def _p(self, params: Mapping | None) -> np.ndarray:
+        params = dict(params or {})
+        by_name = {str(k): v for k, v in params.items()}
+        missing = [str(s) for s in self.params if str(s) not in by_name]
+        if missing:
+            raise ModelError(f"values missing for the parameters {missing}")
+        return np.array([float(by_name[str(s)]) for s in self.params])
+
+    def _state(self, x, name: str) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        if x.shape != (self.nq,):
+            raise ValueError(f"{name}: expected shape ({self.nq},), got {x.shape}")
+        if not np.all(np.isfinite(x)):
+            raise ValueError(f"{name}: contains NaN or infinite values")
+        return x
+
+    def _call(self, name: str, q, u=None, params=None):
+        u = np.zeros(self.nq) if u is None else self._state(u, "u")
+        return self._functions[name](self._state(q, "q"), u, self._p(params))
+
+    def M(self, q, params=None) -> np.ndarray:
+        return self._call("M", q, None, params)
+
+    def b(self, q, u, params=None) -> np.ndarray:
+        return self._call("b", q, u, params)[:, 0]
+
+    def g(self, q, params=None) -> np.ndarray:
+        return self._call("g", q, None, params)[:, 0]
+
+    def tau(self, q, u, params=None) -> np.ndarray:
+        """Generalized forces of all loads."""
+        return self._call("tau", q, u, params)[:, 0]
+
+    def T(self, q, u, params=None) -> float:
+        return float(self._call("T", q, u, params))
+
+    def U(self, q, params=None) -> float:
+        return float(self._call("U", q, None, params))
+
+    def forward_dynamics(self, q, u, tau_a=None, params=None) -> np.ndarray:
+        """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g), solved numerically."""
+        rhs = self.tau(q, u, params) - self.b(q, u, params) - self.g(q, params)
+        if tau_a is not None:
+            rhs += np.asarray(sp.matrix2numpy(self.eom.S.T, dtype=float) @ np.asarray(tau_a, float))
+        return np.linalg.solve(self.M(q, params), rhs)
+
+
+def codegen(eom: EquationsOfMotion, backend: str = "numpy") -> NumericEoM:
+    """Numeric functions of `eom` (backend "numpy")."""
+    if backend not in BACKENDS:
+        raise ModelError(f"unknown backend {backend!r}; available: {list(BACKENDS)}")
+    return NumericEoM(eom)

@@ -1,0 +1,101 @@
+"""The result every method returns: M(q) u̇ + b(q, u) + g(q) = τ(q, u) + Sᵀ τ_a."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from .model.system import System
+from .subexpressions import Subexpressions
+
+
+@dataclass(eq=False)
+class EquationsOfMotion:
+    """M, b, g, the generalized forces of the loads, S, and the energies T and U.
+
+    The `compact` forms are written in named intermediates (`subexpressions`), which is what code
+    generation prints; the attributes M, b, g, tau, T, U are the closed forms in q, u and the
+    parameters, built on first use (for large robots use the compact forms or code generation)."""
+
+    system: System
+    method: str
+    subexpressions: Subexpressions
+    compact: dict[str, sp.Basic]  # M, b, g, T, U and the loads' generalized forces under "tau:<name>"
+    extras: dict = field(default_factory=dict)  # method-specific results (free cut: reactions, ...)
+    _closed: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def q(self) -> sp.Matrix:
+        return self.system.q
+
+    @property
+    def u(self) -> sp.Matrix:
+        return self.system.u
+
+    @property
+    def S(self) -> sp.Matrix:
+        """Selection matrix of the actuated joints."""
+        return self.system.S
+
+    @property
+    def tau_actuated(self) -> sp.Matrix:
+        """Symbols of the actuated joints' torques / forces τ_a (one per row of S)."""
+        return sp.Matrix([sp.Symbol(f"tau_{j.name}") for j in self.system.joints if j.actuated])
+
+    def _closed_form(self, name: str):
+        if name not in self._closed:
+            self._closed[name] = self.subexpressions.inline(self.compact[name])
+        return self._closed[name]
+
+    @property
+    def M(self) -> sp.Matrix:
+        return self._closed_form("M")
+
+    @property
+    def b(self) -> sp.Matrix:
+        return self._closed_form("b")
+
+    @property
+    def g(self) -> sp.Matrix:
+        return self._closed_form("g")
+
+    @property
+    def T(self) -> sp.Expr:
+        return self._closed_form("T")
+
+    @property
+    def U(self) -> sp.Expr:
+        """Potential energy: gravity and springs."""
+        return self._closed_form("U")
+
+    @property
+    def load_names(self) -> list[str]:
+        return [k.split(":", 1)[1] for k in self.compact if k.startswith("tau:")]
+
+    def tau_of(self, load: str) -> sp.Matrix:
+        """Generalized force of one load (by name)."""
+        return self._closed_form(f"tau:{load}")
+
+    @property
+    def tau(self) -> sp.Matrix:
+        """Generalized forces of all loads: forces, torques, actuators, springs, dampers."""
+        total = sp.zeros(len(self.q), 1)
+        for name in self.load_names:
+            total += self.tau_of(name)
+        return total
+
+    def coriolis_matrix(self) -> sp.Matrix:
+        """C with C u = b, from the Christoffel symbols of M:
+        C_ij = Σ_k ½ (∂M_ij/∂q_k + ∂M_ik/∂q_j − ∂M_jk/∂q_i) u_k (closed form; small systems)."""
+        M, q, u = self.M, self.q, self.u
+        n = len(q)
+        dM = [M.diff(qk) for qk in q]
+        return sp.Matrix(n, n, lambda i, j: sum(
+            (dM[k][i, j] + dM[j][i, k] - dM[i][j, k]) * u[k] for k in range(n)) / 2)
+
+    def equations(self) -> sp.Matrix:
+        """The residual M u̇ + b + g − τ − Sᵀ τ_a (= 0), closed form."""
+        return self.M * self.system.ud + self.b + self.g - self.tau - self.S.T * self.tau_actuated
+
+    def __repr__(self) -> str:
+        return f"EquationsOfMotion(method={self.method!r}, q={list(self.q)})"

@@ -1,0 +1,142 @@
+"""How each body moves: rotation R, origin p, joint axes, Jacobians J_P, J_R and the bias terms J̇ u.
+
+Computed once per system and shared by every method. Every quantity is kept as named intermediates
+(see `Subexpressions`); time derivatives use the chain rule with q̇ = u for the joints:
+d/dt f(q) = Σ_k ∂f/∂q_k u_k, so J̇ u = d/dt (J u) with u held fixed."""
+from __future__ import annotations
+
+import sympy as sp
+
+from .errors import ModelError
+from .model import Placement, Prismatic, Revolute
+from .model.loads import Point
+from .model.system import Body, Frame, System
+from .subexpressions import Subexpressions
+
+TIME = "t"
+
+
+class Kinematics:
+    """World-frame kinematics of every body of `system`, as named sub-results in `self.sub`."""
+
+    def __init__(self, system: System) -> None:
+        self.system = system
+        self.q, self.u = list(system.q), list(system.u)
+        self.n = len(self.q)
+        self.sub = Subexpressions()
+        self.time_seeds = dict(zip(self.q, self.u))  # q̇ = u
+        self.R: dict[Body, sp.Matrix] = {}
+        self.p: dict[Body, sp.Matrix] = {}
+        self.e: dict[Body, sp.Matrix] = {}  # joint axis in world axes
+        self.chain: dict[Body, list[Body]] = {}  # the moving joints from the root to the body
+        self._cache: dict = {}
+        for body in system.bodies:
+            self._place(body)
+
+    def _place(self, body: Body) -> None:
+        parent = body.parent
+        R_parent = self.R[parent] if parent else sp.eye(3)
+        p_parent = self.p[parent] if parent else sp.zeros(3, 1)
+        R_joint = self.sub.add_matrix(R_parent * body.placement.rotation)
+        p_joint = p_parent + R_parent * body.placement.translation
+        R_q, t_q = body.joint.motion()
+        self.R[body] = self.sub.add_matrix(R_joint * R_q)
+        chain = list(self.chain[parent]) if parent else []
+        if body.index is not None:
+            self.e[body] = self.sub.add_matrix(R_joint * body.joint.axis)
+            chain.append(body)
+        self.p[body] = self.sub.add_matrix(p_joint + (self.e[body] * body.joint.q
+                                                      if isinstance(body.joint, Prismatic) else t_q))
+        self.chain[body] = chain
+
+    # --- positions ---------------------------------------------------------------------------
+    def position(self, point: Point) -> sp.Matrix:
+        """r = p + R r_local, world coordinates of a point."""
+        if point.body is None:
+            return point.offset
+        return self._cached(("r", point.body, tuple(point.offset)),
+                            lambda: self.sub.add_matrix(self.p[point.body] + self.R[point.body] * point.offset))
+
+    def com(self, body: Body) -> sp.Matrix:
+        return self.position(Point(body, body.com))
+
+    def frame_placement(self, name: str) -> tuple[sp.Matrix, sp.Matrix]:
+        """(R, r) of a named frame in the world."""
+        f = self._frame(name)
+        R = self._cached(("R", name), lambda: self.sub.add_matrix(self.R[f.body] * f.placement.rotation))
+        return R, self.position(Point(f.body, f.placement.translation))
+
+    def inertia_world(self, body: Body) -> sp.Matrix:
+        """Θ in world axes: R Θ Rᵀ (about the centre of mass)."""
+        R = self.R[body]
+        return self._cached(("Theta", body), lambda: self.sub.add_matrix(R * body.inertia * R.T))
+
+    # --- Jacobians (3 × n, world axes) --------------------------------------------------------
+    def J_P(self, point: Point) -> sp.Matrix:
+        """Translational Jacobian of a point: column k is e_k × (r − p_k) (revolute) or e_k (prismatic)."""
+        def build():
+            J = sp.zeros(3, self.n)
+            if point.body is None:
+                return J
+            r = self.position(point)
+            for k in self.chain[point.body]:
+                col = self.e[k] if isinstance(k.joint, Prismatic) else self.e[k].cross(r - self.p[k])
+                J[:, k.index] = self.sub.add_matrix(col)
+            return J
+        return self._cached(("J_P", point.body, tuple(point.offset)), build)
+
+    def J_R(self, body: Body | None) -> sp.Matrix:
+        """Rotational Jacobian: column k is e_k for the revolute joints on the way to the body."""
+        J = sp.zeros(3, self.n)
+        for k in self.chain.get(body, []):
+            if isinstance(k.joint, Revolute):
+                J[:, k.index] = self.e[k]
+        return J
+
+    def jacobian(self, name: str) -> sp.Matrix:
+        """6 × n Jacobian [J_P; J_R] of a named frame's origin in world-aligned axes."""
+        f = self._frame(name)
+        return self.J_P(Point(f.body, f.placement.translation)).col_join(self.J_R(f.body))
+
+    # --- velocities and bias accelerations ----------------------------------------------------
+    def velocity(self, point: Point) -> sp.Matrix:
+        """v = J_P u."""
+        return self._cached(("v", point.body, tuple(point.offset)),
+                            lambda: self.sub.add_matrix(self.J_P(point) * sp.Matrix(self.u)))
+
+    def omega(self, body: Body | None) -> sp.Matrix:
+        """Ω = J_R u."""
+        return self._cached(("w", body), lambda: self.sub.add_matrix(self.J_R(body) * sp.Matrix(self.u)))
+
+    def time_derivative(self, expr: sp.Matrix) -> sp.Matrix:
+        """d/dt by the chain rule, q̇ = u and u held fixed (so d/dt (J u) = J̇ u)."""
+        return expr.applyfunc(lambda e: self.sub.add(self.sub.derivative(e, self.time_seeds, TIME)))
+
+    def Jdot_u_P(self, point: Point) -> sp.Matrix:
+        """J̇_P u: the acceleration of a point when u̇ = 0."""
+        return self._cached(("a", point.body, tuple(point.offset)),
+                            lambda: self.time_derivative(self.velocity(point)))
+
+    def Jdot_u_R(self, body: Body | None) -> sp.Matrix:
+        """J̇_R u: the angular acceleration of a body when u̇ = 0."""
+        return self._cached(("alpha", body), lambda: self.time_derivative(self.omega(body)))
+
+    def jacobian_dot_u(self, name: str) -> sp.Matrix:
+        """6 × 1 J̇ u of a named frame, rows [linear; angular]."""
+        f = self._frame(name)
+        return self.Jdot_u_P(Point(f.body, f.placement.translation)).col_join(self.Jdot_u_R(f.body))
+
+    # --- helpers ------------------------------------------------------------------------------
+    def _frame(self, name: str):
+        if name in self.system.frames:
+            return self.system.frames[name]
+        if isinstance(name, str) and any(b.name == name for b in self.system.bodies):
+            body = self.system.body(name)
+            return Frame(name, body, Placement())
+        raise ModelError(f"unknown frame {name!r}; frames are {sorted(self.system.frames)} "
+                         f"and bodies {[b.name for b in self.system.bodies]}")
+
+    def _cached(self, key, build):
+        if key not in self._cache:
+            self._cache[key] = build()
+        return self._cache[key]

@@ -1,0 +1,30 @@
+"""The derivations. Each is independent of the others; their agreement is a test."""
+from __future__ import annotations
+
+from ..eom import EquationsOfMotion
+from ..errors import ModelError
+from ..kinematics import Kinematics
+from ..model.system import System
+from . import lagrange, projected_newton_euler
+
+METHODS = {
+    "projected_newton_euler": projected_newton_euler.derive,
+    "lagrange": lagrange.derive,
+}
+
+
+def derive(system: System, method: str = "projected_newton_euler") -> EquationsOfMotion:
+    """Equations of motion M u̇ + b + g = τ + Sᵀ τ_a of `system` by `method`
+    ("projected_newton_euler" (default), "lagrange")."""
+    if not isinstance(system, System):
+        raise TypeError(f"derive expects an eomgen.System, got {type(system).__name__}")
+    if method not in METHODS:
+        raise ModelError(f"unknown method {method!r}; choose one of {sorted(METHODS)}")
+    if not system.bodies:
+        raise ModelError("the system has no bodies")
+    if system.nq == 0:
+        raise ModelError("the system has no moving joint (every body is fixed)")
+    total = sum((b.mass for b in system.bodies), 0)
+    if total == 0:
+        raise ModelError("the total mass of the system is zero: M would be singular")
+    return METHODS[method](Kinematics(system))

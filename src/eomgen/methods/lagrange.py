@@ -1,0 +1,108 @@
+"""Lagrange II from the energies, without Jacobians.
+
+Velocities come from differentiating positions and rotations in time (chain rule, q̇ = u):
+v_S = ṙ_S, Ω_B = vee(Rᵀ Ṙ). Then
+
+    T = Σ ½ mᵢ v_Sᵢᵀ v_Sᵢ + ½ Ω_Bᵢᵀ Θᵢ Ω_Bᵢ,     p = ∂T/∂u,     M = ∂p/∂u
+    b = d/dt p |_(u̇=0) − ∂T/∂q,                  g = ∂U_gravity/∂q,  U_gravity = −Σ mᵢ g⃗ · r_Sᵢ
+    τ = ∂P/∂u − ∂U_spring/∂q − ∂D/∂u
+with P the power of the applied forces and torques and D the Rayleigh function of the dampers."""
+from __future__ import annotations
+
+import sympy as sp
+
+from ..eom import EquationsOfMotion
+from ..kinematics import TIME, Kinematics
+from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
+from .projected_newton_euler import spring_potential
+
+
+def derive(kin: Kinematics) -> EquationsOfMotion:
+    system, sub, n = kin.system, kin.sub, kin.n
+    q, u = kin.q, kin.u
+    dq = [{qj: 1} for qj in q]
+    du = [{uj: 1} for uj in u]
+
+    def d_dq(expr, j):
+        return sub.derivative(expr, dq[j], ("q", j))
+
+    def d_du(expr, j):
+        return sub.derivative(expr, du[j], ("u", j))
+
+    T_parts, U_gravity = [], sp.Integer(0)
+    for body in system.bodies:
+        r_S = kin.com(body)
+        U_gravity += -body.mass * (system.gravity.T * r_S)[0]
+        if not kin.chain[body]:
+            continue
+        v_S = kin.time_derivative(r_S)
+        Omega_B = angular_velocity_body(kin, body)
+        T_parts.append(sub.add(body.mass * (v_S.T * v_S)[0] / 2
+                               + (Omega_B.T * body.inertia * Omega_B)[0] / 2))
+    T = sp.Add(*T_parts)
+    p = [sub.add(d_du(T, j)) for j in range(n)]
+    M = sp.Matrix(n, n, lambda i, j: d_du(p[i], j))
+    b = sp.Matrix([sub.derivative(p[i], kin.time_seeds, TIME) - d_dq(T, i) for i in range(n)])
+    g = sp.Matrix([d_dq(U_gravity, i) for i in range(n)])
+    compact = {"M": M, "b": b, "g": g, "T": T}
+    U = U_gravity
+    for load in system.loads:
+        if isinstance(load, Spring):
+            U_s = sub.add(spring_potential(kin, load))
+            U += U_s
+            tau = [-d_dq(U_s, j) for j in range(n)]
+        elif isinstance(load, Damper):
+            D = damper_dissipation(kin, load)
+            tau = [-d_du(D, j) for j in range(n)]
+        else:
+            P = power(kin, load)
+            tau = [d_du(P, j) for j in range(n)]
+        compact[f"tau:{load.name}"] = sp.Matrix(tau)
+    compact["U"] = U
+    return EquationsOfMotion(system, "lagrange", sub, compact)
+
+
+def angular_velocity_body(kin: Kinematics, body) -> sp.Matrix:
+    """Ω in body axes from [Ω]× = Rᵀ Ṙ."""
+    R = kin.R[body]
+    W = R.T * kin.time_derivative(R)
+    return kin.sub.add_matrix(sp.Matrix([W[2, 1], W[0, 2], W[1, 0]]))
+
+
+def _angular_velocity_world(kin: Kinematics, body) -> sp.Matrix:
+    return sp.zeros(3, 1) if body is None else kin.R[body] * angular_velocity_body(kin, body)
+
+
+def _velocity(kin: Kinematics, point: Point) -> sp.Matrix:
+    return kin.time_derivative(kin.position(point))
+
+
+def _length(kin: Kinematics, a: Point, b: Point) -> sp.Expr:
+    d = kin.position(a) - kin.position(b)
+    return kin.sub.add(sp.sqrt((d.T * d)[0]))
+
+
+def power(kin: Kinematics, load) -> sp.Expr:
+    """P = F · v + T · Ω, linear in u (for the actuator: T · (Ω_a − Ω_b) + f ℓ̇)."""
+    if isinstance(load, Force):
+        F = kin.R[load.point.body] * load.force if load.in_body_frame else load.force
+        return (F.T * _velocity(kin, load.point))[0]
+    if isinstance(load, Torque):
+        T = kin.R[load.body] * load.torque if load.in_body_frame else load.torque
+        return (T.T * _angular_velocity_world(kin, load.body))[0]
+    if isinstance(load, Actuator):
+        P = sp.Integer(0)
+        if load.torque is not None:
+            T = kin.R[load.a.body] * load.torque if load.in_body_frame else load.torque
+            P += (T.T * (_angular_velocity_world(kin, load.a.body)
+                         - _angular_velocity_world(kin, load.b.body)))[0]
+        if load.force is not None:
+            P += load.force * kin.time_derivative(sp.Matrix([_length(kin, load.a, load.b)]))[0]
+        return P
+    raise TypeError(f"unknown load type {type(load).__name__}")
+
+
+def damper_dissipation(kin: Kinematics, damper: Damper) -> sp.Expr:
+    """Rayleigh D = ½ c ℓ̇², ℓ = ‖r_a − r_b‖."""
+    l_dot = kin.time_derivative(sp.Matrix([_length(kin, damper.a, damper.b)]))[0]
+    return damper.damping * l_dot**2 / 2

@@ -1,0 +1,7 @@
+"""What the system is: bodies, joints, frames, loads. Building a model computes nothing."""
+from .joints import Fixed, Joint, Placement, Prismatic, Revolute
+from .loads import Actuator, Damper, Force, Point, Spring, Torque
+from .system import Body, Frame, System
+
+__all__ = ["Actuator", "Body", "Damper", "Fixed", "Force", "Frame", "Joint", "Placement", "Point",
+           "Prismatic", "Revolute", "Spring", "System", "Torque"]

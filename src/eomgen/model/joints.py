@@ -1,0 +1,151 @@
+"""Joints and placements: how a body's frame sits on and moves against its parent's frame."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from ..errors import ModelError
+
+
+def vector3(value, what: str) -> sp.Matrix:
+    """A 3×1 sympy column from any sequence of three numbers or expressions; `what` names the field."""
+    try:
+        v = sp.Matrix(value)
+    except Exception as exc:  # sympy raises several types for ragged or non-numeric input
+        raise ModelError(f"{what}: expected three numbers or expressions, got {value!r}") from exc
+    if v.shape not in ((3, 1), (1, 3)):
+        raise ModelError(f"{what}: expected a 3-vector, got shape {v.shape}")
+    v = v.reshape(3, 1)
+    _check_finite(v, what)
+    return v
+
+
+def matrix3(value, what: str) -> sp.Matrix:
+    """A 3×3 sympy matrix; `what` names the field."""
+    try:
+        m = sp.Matrix(value)
+    except Exception as exc:
+        raise ModelError(f"{what}: expected a 3×3 matrix, got {value!r}") from exc
+    if m.shape != (3, 3):
+        raise ModelError(f"{what}: expected a 3×3 matrix, got shape {m.shape}")
+    _check_finite(m, what)
+    return m
+
+
+def _check_finite(m: sp.Matrix, what: str) -> None:
+    for x in m:
+        if x.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+            raise ModelError(f"{what}: entries must be finite, got {list(m)}")
+
+
+def is_numeric(m: sp.Matrix) -> bool:
+    return all(x.is_number for x in m)
+
+
+@dataclass(frozen=True)
+class Placement:
+    """Rigid transform of a frame relative to a parent frame: x_parent = rotation · x + translation."""
+
+    rotation: sp.Matrix = field(default_factory=lambda: sp.eye(3))
+    translation: sp.Matrix = field(default_factory=lambda: sp.zeros(3, 1))
+
+    def __post_init__(self) -> None:
+        R = matrix3(self.rotation, "placement.rotation")
+        p = vector3(self.translation, "placement.translation")
+        if is_numeric(R):
+            Rn = sp.matrix2numpy(R, dtype=float)
+            import numpy as np
+
+            if not np.allclose(Rn.T @ Rn, np.eye(3), atol=1e-9) or np.linalg.det(Rn) < 0:
+                raise ModelError(f"placement.rotation is not a proper rotation matrix: {R.tolist()}")
+        object.__setattr__(self, "rotation", R)
+        object.__setattr__(self, "translation", p)
+
+
+def unit_axis(axis, joint: str) -> sp.Matrix:
+    """The joint axis as a unit 3-vector (numeric axes are normalised; symbolic ones must be unit)."""
+    a = vector3(axis, f"joint '{joint}': axis")
+    if is_numeric(a):
+        norm = sp.sqrt(sum(x**2 for x in a))
+        if norm == 0 or float(norm) < 1e-12:
+            raise ModelError(f"joint '{joint}': axis must not be zero")
+        if norm != 1:
+            a = a / norm
+    return a
+
+
+def rotation_about(a: sp.Matrix, angle: sp.Expr) -> sp.Matrix:
+    """Rodrigues: R = I cos θ + sin θ [a]× + (1 − cos θ) a aᵀ, written out for principal axes."""
+    c, s = sp.cos(angle), sp.sin(angle)
+    return sp.eye(3) * c + s * skew(a) + (1 - c) * (a * a.T)
+
+
+def skew(a: sp.Matrix) -> sp.Matrix:
+    """[a]×, with [a]× b = a × b."""
+    return sp.Matrix([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+
+
+class Joint:
+    """A joint between a parent body and its child; `name` (str or Symbol) is also its coordinate q."""
+
+    dof = 1
+
+    def __init__(self, name, axis=(0, 0, 1), *, actuated: bool = True) -> None:
+        if isinstance(name, sp.Symbol):
+            self.name, self.q = name.name, name
+        elif isinstance(name, str) and name.strip():
+            self.name, self.q = name, sp.Symbol(name)
+        else:
+            raise ModelError(f"joint name must be a non-empty string or a sympy Symbol, got {name!r}")
+        self.axis = unit_axis(axis, self.name)
+        self.actuated = actuated
+
+    def motion(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """(R_j, t_j): the child frame in the joint frame as a function of q."""
+        raise NotImplementedError
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.name!r}, axis={tuple(self.axis)})"
+
+
+class Revolute(Joint):
+    """Rotation by q about `axis` (joint frame)."""
+
+    def motion(self):
+        return _axis_rotation(self.axis, self.q), sp.zeros(3, 1)
+
+
+class Prismatic(Joint):
+    """Translation by q along `axis` (joint frame)."""
+
+    def motion(self):
+        return sp.eye(3), self.axis * self.q
+
+
+class Fixed(Joint):
+    """No motion: the body is welded to its parent."""
+
+    dof = 0
+
+    def __init__(self, name: str = "fixed") -> None:
+        self.name, self.q, self.axis, self.actuated = str(name), None, None, False
+
+    def motion(self):
+        return sp.eye(3), sp.zeros(3, 1)
+
+    def __repr__(self) -> str:
+        return f"Fixed({self.name!r})"
+
+
+def _axis_rotation(a: sp.Matrix, q: sp.Expr) -> sp.Matrix:
+    c, s = sp.cos(q), sp.sin(q)
+    principal = {(1, 0, 0): 0, (0, 1, 0): 1, (0, 0, 1): 2}
+    for sign in (1, -1):
+        if tuple(sign * a) in principal:  # exact forms, no (1 − cos) terms
+            i = principal[tuple(sign * a)]
+            j, k = (i + 1) % 3, (i + 2) % 3
+            R = sp.eye(3)
+            R[j, j], R[j, k], R[k, j], R[k, k] = c, -sign * s, sign * s, c
+            return R
+    return rotation_about(a, q)

@@ -1,0 +1,255 @@
+"""The multibody system: bodies in a tree, joints, frames, loads, gravity. Building computes nothing."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from ..errors import ModelError
+from .joints import Fixed, Joint, Placement, is_numeric, matrix3, vector3
+from .loads import Actuator, Damper, Force, Point, Spring, Torque
+
+
+def speed_symbol(q: sp.Symbol, suffix: str = "dot") -> sp.Symbol:
+    """u for coordinate q: 'phi' → 'phidot' (φ̇), 'q_1' → 'qdot_1' (q̇₁)."""
+    base, sep, sub = q.name.partition("_")
+    return sp.Symbol(f"{base}{suffix}{sep}{sub}")
+
+
+@dataclass(eq=False)
+class Body:
+    name: str
+    parent: "Body | None"
+    joint: Joint
+    mass: sp.Expr
+    com: sp.Matrix
+    inertia: sp.Matrix
+    placement: Placement
+    index: int  # position of its coordinate in q, or None for a fixed joint
+
+    def __repr__(self) -> str:
+        parent = self.parent.name if self.parent else "world"
+        return f"Body({self.name!r}, parent={parent!r}, joint={self.joint!r})"
+
+
+@dataclass(eq=False)
+class Frame:
+    name: str
+    body: Body
+    placement: Placement
+
+
+class System:
+    """Rigid bodies connected by joints in a tree rooted at the (inertial) world."""
+
+    def __init__(self, gravity=(0, 0, -9.81)) -> None:
+        self.gravity = vector3(gravity, "gravity")
+        self.bodies: list[Body] = []
+        self.frames: dict[str, Frame] = {}
+        self.loads: list = []
+        self._bodies: dict[str, Body] = {}
+
+    # --- coordinates -------------------------------------------------------------------------
+    @property
+    def joints(self) -> list[Joint]:
+        return [b.joint for b in self.bodies if b.index is not None]
+
+    @property
+    def q(self) -> sp.Matrix:
+        return sp.Matrix([j.q for j in self.joints])
+
+    @property
+    def u(self) -> sp.Matrix:
+        return sp.Matrix([speed_symbol(j.q) for j in self.joints])
+
+    @property
+    def ud(self) -> sp.Matrix:
+        """Symbols of the accelerations u̇."""
+        return sp.Matrix([speed_symbol(j.q, "ddot") for j in self.joints])
+
+    @property
+    def nq(self) -> int:
+        return len(self.joints)
+
+    @property
+    def S(self) -> sp.Matrix:
+        """Selection matrix: one row per actuated joint, τ_gen = Sᵀ τ."""
+        rows = [b.index for b in self.bodies if b.index is not None and b.joint.actuated]
+        S = sp.zeros(len(rows), self.nq)
+        for r, i in enumerate(rows):
+            S[r, i] = 1
+        return S
+
+    @property
+    def parameters(self) -> set[sp.Symbol]:
+        """Symbols of the model that are neither coordinates nor speeds."""
+        exprs = list(self.gravity)
+        for b in self.bodies:
+            exprs += [b.mass, *b.com, *b.inertia, *b.placement.rotation, *b.placement.translation]
+            if b.joint.axis is not None:
+                exprs += list(b.joint.axis)
+        for f in self.frames.values():
+            exprs += [*f.placement.rotation, *f.placement.translation]
+        for load in self.loads:
+            exprs += [x for v in vars(load).values() for x in _entries(v)]
+        free = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
+        return free - set(self.q) - set(self.u)
+
+    # --- building ----------------------------------------------------------------------------
+    def body(self, ref) -> Body:
+        """The body given by name or object; a clear error if it is not part of this system."""
+        if isinstance(ref, Body):
+            if self._bodies.get(ref.name) is not ref:
+                raise ModelError(f"body '{ref.name}' does not belong to this system")
+            return ref
+        if isinstance(ref, str) and ref in self._bodies:
+            return self._bodies[ref]
+        raise ModelError(f"unknown body {ref!r}; bodies are {sorted(self._bodies)}")
+
+    def add_body(self, name: str, parent=None, joint: Joint | None = None, mass=0, com=(0, 0, 0),
+                 inertia=None, placement: Placement | None = None) -> Body:
+        """Attach a body to `parent` (a body or its name; None = world) through `joint`.
+        `com` and `inertia` (about the com) are in the body frame, which is the joint frame moved by q."""
+        if not isinstance(name, str) or not name:
+            raise ModelError(f"body name must be a non-empty string, got {name!r}")
+        if name in self._bodies or name in self.frames:
+            raise ModelError(f"duplicate name '{name}': a body or frame of that name exists")
+        if parent is not None:
+            if parent == name:
+                raise ModelError(f"body '{name}' cannot be its own parent (a loop in the tree)")
+            try:
+                parent = self.body(parent)
+            except ModelError:
+                raise ModelError(f"body '{name}': unknown parent {getattr(parent, 'name', parent)!r}; "
+                                 f"add the parent first (bodies are {sorted(self._bodies)})") from None
+        joint = Fixed(f"{name}_fixed") if joint is None else joint
+        if not isinstance(joint, Joint):
+            raise ModelError(f"body '{name}': unsupported joint type {type(joint).__name__}; "
+                             "use Revolute, Prismatic or Fixed")
+        if joint.q is not None and joint.q in set(self.q):
+            raise ModelError(f"body '{name}': coordinate '{joint.q}' is used by another joint already")
+        mass = sp.sympify(mass)
+        if mass.is_negative or (mass.is_number and not mass.is_real):
+            raise ModelError(f"body '{name}': mass must be non-negative, got {mass}")
+        com = vector3(com, f"body '{name}': com")
+        inertia = matrix3(sp.zeros(3) if inertia is None else inertia, f"body '{name}': inertia")
+        check_inertia(inertia, f"body '{name}'")
+        placement = Placement() if placement is None else placement
+        if not isinstance(placement, Placement):
+            raise ModelError(f"body '{name}': placement must be an eomgen.Placement")
+        body = Body(name, parent, joint, mass, com, inertia, placement,
+                    self.nq if joint.dof else None)
+        self.bodies.append(body)
+        self._bodies[name] = body
+        return body
+
+    def add_frame(self, name: str, body, placement: Placement | None = None) -> Frame:
+        """A named frame fixed on a body (a tool tip, a contact point, a URDF link merged away)."""
+        if name in self._bodies or name in self.frames:
+            raise ModelError(f"duplicate name '{name}': a body or frame of that name exists")
+        frame = Frame(name, self.body(body), Placement() if placement is None else placement)
+        self.frames[name] = frame
+        return frame
+
+    def point(self, ref) -> Point:
+        """A point from: a frame or body name, a Body (its origin), (body or None, offset), or None (the
+        world origin)."""
+        if ref is None:
+            return Point(None, sp.zeros(3, 1))
+        if isinstance(ref, str) and ref in self.frames:
+            f = self.frames[ref]
+            return Point(f.body, f.placement.translation)
+        if isinstance(ref, (str, Body)):
+            return Point(self.body(ref), sp.zeros(3, 1))
+        if isinstance(ref, tuple) and len(ref) == 2:
+            body = None if ref[0] is None else self.body(ref[0])
+            return Point(body, vector3(ref[1], "point offset"))
+        raise ModelError(f"cannot read a point from {ref!r}: give a frame or body name, a body, "
+                         "(body or None, offset) or None")
+
+    def _load_name(self, name, kind: str) -> str:
+        name = name or f"{kind}{sum(type(x).__name__.lower() == kind for x in self.loads)}"
+        if any(x.name == name for x in self.loads):
+            raise ModelError(f"duplicate load name '{name}'")
+        return name
+
+    def add_force(self, body, force, point=(0, 0, 0), *, in_body_frame=False, name=None) -> Force:
+        """Force F at `point` (body coordinates); F in world axes unless in_body_frame."""
+        load = Force(self._load_name(name, "force"), Point(self.body(body), vector3(point, "force point")),
+                     vector3(force, "force"), in_body_frame)
+        self.loads.append(load)
+        return load
+
+    def add_torque(self, body, torque, *, in_body_frame=False, name=None) -> Torque:
+        """Pure torque T on a body, world axes unless in_body_frame."""
+        load = Torque(self._load_name(name, "torque"), self.body(body), vector3(torque, "torque"),
+                      in_body_frame)
+        self.loads.append(load)
+        return load
+
+    def add_actuator(self, body, *, torque=None, force=None, reaction=None, point=(0, 0, 0),
+                     reaction_point=(0, 0, 0), in_body_frame=False, name=None) -> Actuator:
+        """An actuator acting on `body` with reaction on `reaction` (default: its parent):
+        torque T on body and −T on reaction; force f along the line between the two points."""
+        a = self.body(body)
+        b = a.parent if reaction is None else self.body(reaction)
+        if torque is None and force is None:
+            raise ModelError(f"actuator on body '{a.name}': give a torque, a force or both")
+        load = Actuator(self._load_name(name, "actuator"), Point(a, vector3(point, "actuator point")),
+                        Point(b, vector3(reaction_point, "actuator reaction_point")),
+                        None if torque is None else vector3(torque, "actuator torque"),
+                        None if force is None else sp.sympify(force), in_body_frame)
+        self.loads.append(load)
+        return load
+
+    def add_spring(self, a, b, stiffness, rest_length=0, *, name=None) -> Spring:
+        """Linear spring between points a and b (see `point`)."""
+        load = Spring(self._load_name(name, "spring"), self.point(a), self.point(b),
+                      _nonnegative(stiffness, "spring stiffness"), _nonnegative(rest_length, "spring rest_length"))
+        self.loads.append(load)
+        return load
+
+    def add_damper(self, a, b, damping, *, name=None) -> Damper:
+        """Linear damper between points a and b (see `point`)."""
+        load = Damper(self._load_name(name, "damper"), self.point(a), self.point(b),
+                      _nonnegative(damping, "damper damping"))
+        self.loads.append(load)
+        return load
+
+    def __repr__(self) -> str:
+        return f"System({len(self.bodies)} bodies, q={list(self.q)})"
+
+
+def _entries(v):
+    if isinstance(v, sp.MatrixBase):
+        return list(v)
+    if isinstance(v, Point):
+        return list(v.offset)
+    if isinstance(v, sp.Basic):
+        return [v]
+    return []
+
+
+def _nonnegative(value, what: str) -> sp.Expr:
+    value = sp.sympify(value)
+    if value.is_negative:
+        raise ModelError(f"{what} must be non-negative, got {value}")
+    return value
+
+
+def check_inertia(I: sp.Matrix, owner: str) -> None:
+    """Symmetric; when numeric: positive semidefinite and principal moments obeying the triangle
+    inequality (λ_i ≤ λ_j + λ_k)."""
+    if any(sp.expand(I[i, j] - I[j, i]) != 0 for i in range(3) for j in range(i)):
+        raise ModelError(f"{owner}: inertia must be symmetric, got {I.tolist()}")
+    if not is_numeric(I):
+        return
+    A = np.array(I.tolist(), dtype=float)
+    lam = np.linalg.eigvalsh(A)
+    tol = 1e-9 * max(1.0, float(np.abs(lam).max()))
+    if lam.min() < -tol:
+        raise ModelError(f"{owner}: inertia must be positive semidefinite, eigenvalues {lam.tolist()}")
+    if lam[2] > lam[0] + lam[1] + tol:
+        raise ModelError(f"{owner}: principal moments {lam.tolist()} break the triangle inequality "
+                         "(largest ≤ sum of the other two)")

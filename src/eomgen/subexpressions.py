@@ -1,0 +1,94 @@
+"""Named intermediate results and the chain rule through them.
+
+Symbolic mechanics gets slow when every entry of M is one huge expression tree. Instead each
+intermediate quantity (an entry of a body's rotation, a Jacobian column, ...) is a plain Symbol
+x_k with a definition e_k(q, u, parameters, x_<k). Derivatives follow the chain rule through the
+definitions,
+
+    d f / d s  =  Σ_y  ∂f/∂y · d y / d s,     d x_k / d s = d e_k / d s   (a new intermediate),
+
+so a derivative is as cheap as the definitions it touches, and code generation can print the
+intermediates once each.
+"""
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+
+import sympy as sp
+
+
+def is_trivial(expr: sp.Expr) -> bool:
+    """True where naming the expression would not save work: atoms, −atom, sin/cos of an atom."""
+    if expr.is_Atom:
+        return True
+    if expr.is_Mul and len(expr.args) == 2 and expr.args[0].is_Number and expr.args[1].is_Atom:
+        return True
+    return isinstance(expr, (sp.sin, sp.cos)) and expr.args[0].is_Atom
+
+
+class Subexpressions:
+    """An ordered set of definitions x_k = e_k, with directional derivatives through them."""
+
+    def __init__(self, prefix: str = "x") -> None:
+        self.prefix = prefix
+        self.definitions: dict[sp.Symbol, sp.Expr] = {}
+        self._index: dict[sp.Symbol, int] = {}
+        self._uses: dict[sp.Symbol, tuple] = {}
+        self._derivatives: dict[tuple, sp.Expr] = {}
+        self._inlined: dict[sp.Symbol, sp.Expr] = {}
+
+    def __len__(self) -> int:
+        return len(self.definitions)
+
+    def add(self, expr: sp.Expr) -> sp.Expr:
+        """Name `expr` as a new intermediate (unless trivial) and return the name."""
+        expr = sp.sympify(expr)
+        if is_trivial(expr):
+            return expr
+        symbol = sp.Dummy(f"{self.prefix}{len(self.definitions)}")
+        self._index[symbol] = len(self.definitions)
+        self._uses[symbol] = tuple(s for s in expr.free_symbols if s in self.definitions)
+        self.definitions[symbol] = expr
+        return symbol
+
+    def add_matrix(self, matrix: sp.Matrix) -> sp.Matrix:
+        """Name every entry of `matrix`."""
+        return matrix.applyfunc(self.add)
+
+    def dependencies(self, exprs: Iterable[sp.Expr]) -> list[sp.Symbol]:
+        """The intermediates that `exprs` need, in definition order."""
+        stack = [s for e in exprs for s in sp.sympify(e).free_symbols if s in self.definitions]
+        needed: set[sp.Symbol] = set()
+        while stack:
+            s = stack.pop()
+            if s not in needed:
+                needed.add(s)
+                stack.extend(self._uses[s])
+        return sorted(needed, key=self._index.__getitem__)
+
+    def derivative(self, expr: sp.Expr, seeds: Mapping[sp.Symbol, sp.Expr], key) -> sp.Expr:
+        """Directional derivative Σ_y ∂expr/∂y · ẏ, where ẏ = seeds[y] for the independent symbols
+        and the chain rule for the intermediates. `key` names the direction (memoization)."""
+        expr = sp.sympify(expr)
+        for s in self.dependencies([expr]):
+            if (s, key) not in self._derivatives:
+                self._derivatives[(s, key)] = self.add(self._direct(self.definitions[s], seeds, key))
+        return self._direct(expr, seeds, key)
+
+    def _direct(self, expr: sp.Expr, seeds: Mapping[sp.Symbol, sp.Expr], key) -> sp.Expr:
+        terms = []
+        for y in expr.free_symbols:
+            dy = seeds.get(y, 0) if y not in self.definitions else self._derivatives[(y, key)]
+            if dy != 0:
+                terms.append(sp.diff(expr, y) * dy)
+        return sp.Add(*terms)
+
+    def inline(self, expr):
+        """Substitute every intermediate by its definition: the closed form in q, u and parameters."""
+        if isinstance(expr, sp.MatrixBase):
+            return expr.applyfunc(self.inline)
+        expr = sp.sympify(expr)
+        for s in self.dependencies([expr]):
+            if s not in self._inlined:
+                self._inlined[s] = self.definitions[s].xreplace(self._inlined)
+        return expr.xreplace(self._inlined)
