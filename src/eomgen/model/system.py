@@ -135,6 +135,7 @@ class System:
         com = vector3(com, f"body '{name}': com")
         inertia = matrix3(sp.zeros(3) if inertia is None else inertia, f"body '{name}': inertia")
         check_inertia(inertia, f"body '{name}'")
+        inertia = (inertia + inertia.T) / 2  # exact for symmetric input, removes float round-off
         placement = Placement() if placement is None else placement
         if not isinstance(placement, Placement):
             raise ModelError(f"body '{name}': placement must be an eomgen.Placement")
@@ -241,13 +242,15 @@ def _nonnegative(value, what: str) -> sp.Expr:
 def check_inertia(I: sp.Matrix, owner: str) -> None:
     """Symmetric; when numeric: positive semidefinite and principal moments obeying the triangle
     inequality (λ_i ≤ λ_j + λ_k)."""
-    if any(sp.expand(I[i, j] - I[j, i]) != 0 for i in range(3) for j in range(i)):
-        raise ModelError(f"{owner}: inertia must be symmetric, got {I.tolist()}")
     if not is_numeric(I):
+        if any(sp.expand(I[i, j] - I[j, i]) != 0 for i in range(3) for j in range(i)):
+            raise ModelError(f"{owner}: inertia must be symmetric, got {I.tolist()}")
         return
     A = np.array(I.tolist(), dtype=float)
+    tol = 1e-9 * max(1e-12, float(np.abs(A).max()))
+    if np.abs(A - A.T).max() > tol:
+        raise ModelError(f"{owner}: inertia must be symmetric, got {I.tolist()}")
     lam = np.linalg.eigvalsh(A)
-    tol = 1e-9 * max(1.0, float(np.abs(lam).max()))
     if lam.min() < -tol:
         raise ModelError(f"{owner}: inertia must be positive semidefinite, eigenvalues {lam.tolist()}")
     if lam[2] > lam[0] + lam[1] + tol:
