@@ -5,6 +5,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from .kinematics import Kinematics
 from .model.system import System
 from .subexpressions import Subexpressions
 
@@ -17,12 +18,19 @@ class EquationsOfMotion:
     generation prints; the attributes M, b, g, tau, T, U are the closed forms in q, u and the
     parameters, built on first use (for large robots use the compact forms or code generation)."""
 
-    system: System
+    kinematics: Kinematics
     method: str
-    subexpressions: Subexpressions
     compact: dict[str, sp.Basic]  # M, b, g, T, U and the loads' generalized forces under "tau:<name>"
     extras: dict = field(default_factory=dict)  # method-specific results (free cut: reactions, ...)
     _closed: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def system(self) -> System:
+        return self.kinematics.system
+
+    @property
+    def subexpressions(self) -> Subexpressions:
+        return self.kinematics.sub
 
     @property
     def q(self) -> sp.Matrix:

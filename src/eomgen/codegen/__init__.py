@@ -8,7 +8,7 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
-from .numpy_backend import compile_function, function_source
+from .numpy_backend import FunctionWriter, compile_function
 
 BACKENDS = ("numpy",)
 
@@ -23,6 +23,7 @@ class NumericEoM:
         self.nq = len(eom.q)
         self.params = sorted(eom.system.parameters, key=str)
         inputs = {"q": list(eom.q), "u": list(eom.u), "p": self.params}
+        self._writer = writer = FunctionWriter(eom.subexpressions, inputs)
         self.sources: dict[str, str] = {}
         self._functions = {}
         tau = sp.zeros(self.nq, 1)
@@ -30,7 +31,7 @@ class NumericEoM:
             tau += eom.compact[f"tau:{name}"]
         for name, expr in [("M", eom.compact["M"]), ("b", eom.compact["b"]), ("g", eom.compact["g"]),
                            ("tau", tau), ("T", eom.compact["T"]), ("U", eom.compact["U"])]:
-            self.sources[name] = function_source(name, expr, eom.subexpressions, inputs)
+            self.sources[name] = writer.source(name, expr)
             self._functions[name] = compile_function(self.sources[name], name)
 
     def _p(self, params: Mapping | None) -> np.ndarray:
@@ -71,6 +72,30 @@ class NumericEoM:
 
     def U(self, q, params=None) -> float:
         return float(self._call("U", q, None, params))
+
+    def _lazy(self, key: str, build):
+        """A function generated on first request (a frame's Jacobian, one load's τ)."""
+        if key not in self._functions:
+            self.sources[key] = self._writer.source("f", build())
+            self._functions[key] = compile_function(self.sources[key], "f")
+        return self._functions[key]
+
+    def jacobian(self, frame: str, q, params=None) -> np.ndarray:
+        """6 × n Jacobian [J_P; J_R] of a frame or body origin, world-aligned axes."""
+        f = self._lazy(f"J:{frame}", lambda: self.eom.kinematics.jacobian(frame))
+        return f(self._state(q, "q"), np.zeros(self.nq), self._p(params))
+
+    def jacobian_dot_u(self, frame: str, q, u, params=None) -> np.ndarray:
+        """J̇ u (6-vector, [linear; angular]) of a frame or body origin."""
+        f = self._lazy(f"Jdot_u:{frame}", lambda: self.eom.kinematics.jacobian_dot_u(frame))
+        return f(self._state(q, "q"), self._state(u, "u"), self._p(params))[:, 0]
+
+    def tau_of(self, load: str, q, u, params=None) -> np.ndarray:
+        """Generalized force of one load, by name."""
+        if load not in self.eom.load_names:
+            raise ModelError(f"unknown load {load!r}; loads are {self.eom.load_names}")
+        f = self._lazy(f"tau:{load}", lambda: self.eom.compact[f"tau:{load}"])
+        return f(self._state(q, "q"), self._state(u, "u"), self._p(params))[:, 0]
 
     def forward_dynamics(self, q, u, tau_a=None, params=None) -> np.ndarray:
         """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g), solved numerically."""

@@ -17,21 +17,36 @@ class _Printer(NumPyPrinter):
         return repr(float(expr))
 
 
-def function_source(name: str, outputs: sp.Basic, sub: Subexpressions,
-                    inputs: dict[str, list[sp.Symbol]]) -> str:
-    """Source of `def name(q, u, p)` returning `outputs` (a matrix, or a scalar expression)."""
+class FunctionWriter:
+    """Prints functions of one set of sub-results; each definition is printed once for all of them."""
+
+    def __init__(self, sub: Subexpressions, inputs: dict[str, list[sp.Symbol]]) -> None:
+        self.sub, self.inputs = sub, inputs
+        self.rename = {s: sp.Symbol(f"_{arg}{k}") for arg, symbols in inputs.items()
+                       for k, s in enumerate(symbols)}
+        self.printer = _Printer()
+        self._lines: dict[sp.Symbol, str] = {}
+
+    def _line(self, s: sp.Symbol) -> str:
+        if s not in self._lines:
+            self._lines[s] = f"    {self.rename[s]} = {self.printer.doprint(self.sub.definitions[s].xreplace(self.rename))}"
+        return self._lines[s]
+
+    def source(self, name: str, outputs: sp.Basic) -> str:
+        """Source of `def name(q, u, p)` returning `outputs` (a matrix, or a scalar expression)."""
+        for k, s in enumerate(self.sub.definitions):  # intermediates added since the last call
+            self.rename.setdefault(s, sp.Symbol(f"_x{k}"))
+        return function_source(self, name, outputs)
+
+
+def function_source(writer: FunctionWriter, name: str, outputs: sp.Basic) -> str:
     matrix = isinstance(outputs, sp.MatrixBase)
     exprs = list(outputs) if matrix else [outputs]
-    rename: dict[sp.Symbol, sp.Symbol] = {}
-    lines = [f"def {name}({', '.join(inputs)}):"]
-    for arg, symbols in inputs.items():
-        for k, s in enumerate(symbols):
-            rename[s] = sp.Symbol(f"_{arg}{k}")
-            lines.append(f"    _{arg}{k} = {arg}[{k}]")
-    printer = _Printer()
-    for k, s in enumerate(sub.dependencies(exprs)):
-        rename[s] = sp.Symbol(f"_x{k}")
-        lines.append(f"    _x{k} = {printer.doprint(sub.definitions[s].xreplace(rename))}")
+    rename, printer = writer.rename, writer.printer
+    lines = [f"def {name}({', '.join(writer.inputs)}):"]
+    for arg, symbols in writer.inputs.items():
+        lines += [f"    _{arg}{k} = {arg}[{k}]" for k in range(len(symbols))]
+    lines += [writer._line(s) for s in writer.sub.dependencies(exprs)]
     values = [printer.doprint(sp.sympify(e).xreplace(rename)) for e in exprs]
     unknown = set().union(*(sp.sympify(e).free_symbols for e in exprs)) - set(rename)
     if unknown:

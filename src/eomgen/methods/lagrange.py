@@ -59,7 +59,7 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
             tau = [d_du(P, j) for j in range(n)]
         compact[f"tau:{load.name}"] = sp.Matrix(tau)
     compact["U"] = U
-    return EquationsOfMotion(system, "lagrange", sub, compact)
+    return EquationsOfMotion(kin, "lagrange", compact)
 
 
 def angular_velocity_body(kin: Kinematics, body) -> sp.Matrix:

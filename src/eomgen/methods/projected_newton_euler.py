@@ -44,7 +44,7 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
         if isinstance(load, Spring):
             U += spring_potential(kin, load)
     compact["U"] = U
-    return EquationsOfMotion(system, "projected_newton_euler", sub, compact)
+    return EquationsOfMotion(kin, "projected_newton_euler", compact)
 
 
 def _gravity_potential(kin: Kinematics, body) -> sp.Expr:
