@@ -1,6 +1,7 @@
 """Numeric functions from the equations of motion."""
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 
 import numpy as np
@@ -34,13 +35,14 @@ class NumericEoM:
             self.sources[name] = writer.source(name, expr)
             self._functions[name] = compile_function(self.sources[name], name)
 
-    def _p(self, params: Mapping | None) -> np.ndarray:
-        params = dict(params or {})
-        by_name = {str(k): v for k, v in params.items()}
-        missing = [str(s) for s in self.params if str(s) not in by_name]
+    def _p(self, params: Mapping | None, key: str) -> np.ndarray:
+        """The parameter vector; only the parameters that function `key` uses must be given."""
+        by_name = {str(k): v for k, v in dict(params or {}).items()}
+        used = {int(k) for k in re.findall(r"\b_p(\d+) =", self.sources[key])}
+        missing = [str(s) for k, s in enumerate(self.params) if k in used and str(s) not in by_name]
         if missing:
             raise ModelError(f"values missing for the parameters {missing}")
-        return np.array([float(by_name[str(s)]) for s in self.params])
+        return np.array([float(by_name.get(str(s), np.nan)) for s in self.params])
 
     def _state(self, x, name: str) -> np.ndarray:
         x = np.asarray(x, dtype=float)
@@ -52,7 +54,7 @@ class NumericEoM:
 
     def _call(self, name: str, q, u=None, params=None):
         u = np.zeros(self.nq) if u is None else self._state(u, "u")
-        return self._functions[name](self._state(q, "q"), u, self._p(params))
+        return self._functions[name](self._state(q, "q"), u, self._p(params, name))
 
     def M(self, q, params=None) -> np.ndarray:
         return self._call("M", q, None, params)
@@ -82,20 +84,20 @@ class NumericEoM:
 
     def jacobian(self, frame: str, q, params=None) -> np.ndarray:
         """6 × n Jacobian [J_P; J_R] of a frame or body origin, world-aligned axes."""
-        f = self._lazy(f"J:{frame}", lambda: self.eom.kinematics.jacobian(frame))
-        return f(self._state(q, "q"), np.zeros(self.nq), self._p(params))
+        f = self._lazy(key := f"J:{frame}", lambda: self.eom.kinematics.jacobian(frame))
+        return f(self._state(q, "q"), np.zeros(self.nq), self._p(params, key))
 
     def jacobian_dot_u(self, frame: str, q, u, params=None) -> np.ndarray:
         """J̇ u (6-vector, [linear; angular]) of a frame or body origin."""
-        f = self._lazy(f"Jdot_u:{frame}", lambda: self.eom.kinematics.jacobian_dot_u(frame))
-        return f(self._state(q, "q"), self._state(u, "u"), self._p(params))[:, 0]
+        f = self._lazy(key := f"Jdot_u:{frame}", lambda: self.eom.kinematics.jacobian_dot_u(frame))
+        return f(self._state(q, "q"), self._state(u, "u"), self._p(params, key))[:, 0]
 
     def tau_of(self, load: str, q, u, params=None) -> np.ndarray:
         """Generalized force of one load, by name."""
         if load not in self.eom.load_names:
             raise ModelError(f"unknown load {load!r}; loads are {self.eom.load_names}")
-        f = self._lazy(f"tau:{load}", lambda: self.eom.compact[f"tau:{load}"])
-        return f(self._state(q, "q"), self._state(u, "u"), self._p(params))[:, 0]
+        f = self._lazy(key := f"tau:{load}", lambda: self.eom.compact[f"tau:{load}"])
+        return f(self._state(q, "q"), self._state(u, "u"), self._p(params, key))[:, 0]
 
     def forward_dynamics(self, q, u, tau_a=None, params=None) -> np.ndarray:
         """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g), solved numerically."""

@@ -43,10 +43,13 @@ def function_source(writer: FunctionWriter, name: str, outputs: sp.Basic) -> str
     matrix = isinstance(outputs, sp.MatrixBase)
     exprs = list(outputs) if matrix else [outputs]
     rename, printer = writer.rename, writer.printer
+    needed = writer.sub.dependencies(exprs)
+    used = set().union(*(writer.sub.definitions[s].free_symbols for s in needed),
+                       *(sp.sympify(e).free_symbols for e in exprs))
     lines = [f"def {name}({', '.join(writer.inputs)}):"]
     for arg, symbols in writer.inputs.items():
-        lines += [f"    _{arg}{k} = {arg}[{k}]" for k in range(len(symbols))]
-    lines += [writer._line(s) for s in writer.sub.dependencies(exprs)]
+        lines += [f"    _{arg}{k} = {arg}[{k}]" for k, s in enumerate(symbols) if s in used]
+    lines += [writer._line(s) for s in needed]
     values = [printer.doprint(sp.sympify(e).xreplace(rename)) for e in exprs]
     unknown = set().union(*(sp.sympify(e).free_symbols for e in exprs)) - set(rename)
     if unknown:
