@@ -85,12 +85,14 @@ class EquationsOfMotion:
         return self._closed_form(f"tau:{load}")
 
     @property
+    def tau_compact(self) -> sp.Matrix:
+        """Σ of the loads' generalized forces, in intermediates."""
+        return sum((self.compact[f"tau:{name}"] for name in self.load_names), sp.zeros(len(self.q), 1))
+
+    @property
     def tau(self) -> sp.Matrix:
         """Generalized forces of all loads: forces, torques, actuators, springs, dampers."""
-        total = sp.zeros(len(self.q), 1)
-        for name in self.load_names:
-            total += self.tau_of(name)
-        return total
+        return self.subexpressions.inline(self.tau_compact)
 
     def coriolis_matrix(self) -> sp.Matrix:
         """C with C u = b, from the Christoffel symbols of M:

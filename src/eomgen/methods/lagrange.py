@@ -14,7 +14,7 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..kinematics import TIME, Kinematics
 from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
-from .projected_newton_euler import spring_potential
+from .applied import spring_potential, world
 
 
 def derive(kin: Kinematics) -> EquationsOfMotion:
@@ -85,15 +85,15 @@ def _length(kin: Kinematics, a: Point, b: Point) -> sp.Expr:
 def power(kin: Kinematics, load) -> sp.Expr:
     """P = F · v + T · Ω, linear in u (for the actuator: T · (Ω_a − Ω_b) + f ℓ̇)."""
     if isinstance(load, Force):
-        F = kin.R[load.point.body] * load.force if load.in_body_frame else load.force
+        F = world(kin, load.force, load.point.body, load.in_body_frame)
         return (F.T * _velocity(kin, load.point))[0]
     if isinstance(load, Torque):
-        T = kin.R[load.body] * load.torque if load.in_body_frame else load.torque
+        T = world(kin, load.torque, load.body, load.in_body_frame)
         return (T.T * _angular_velocity_world(kin, load.body))[0]
     if isinstance(load, Actuator):
         P = sp.Integer(0)
         if load.torque is not None:
-            T = kin.R[load.a.body] * load.torque if load.in_body_frame else load.torque
+            T = world(kin, load.torque, load.a.body, load.in_body_frame)
             P += (T.T * (_angular_velocity_world(kin, load.a.body)
                          - _angular_velocity_world(kin, load.b.body)))[0]
         if load.force is not None:

@@ -11,7 +11,8 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
-from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
+from ..model.loads import Point, Spring
+from .applied import applied_wrenches, spring_potential
 
 
 def derive(kin: Kinematics) -> EquationsOfMotion:
@@ -52,42 +53,9 @@ def _gravity_potential(kin: Kinematics, body) -> sp.Expr:
     return -body.mass * (kin.system.gravity.T * kin.com(body))[0]
 
 
-def spring_potential(kin: Kinematics, spring: Spring) -> sp.Expr:
-    """U = ½ k (‖r_a − r_b‖ − l0)²."""
-    d = kin.position(spring.a) - kin.position(spring.b)
-    if spring.rest_length == 0:
-        return spring.stiffness * (d.T * d)[0] / 2
-    return spring.stiffness * (sp.sqrt((d.T * d)[0]) - spring.rest_length) ** 2 / 2
-
-
-def _world(kin: Kinematics, vector: sp.Matrix, body, in_body_frame: bool) -> sp.Matrix:
-    return kin.R[body] * vector if in_body_frame and body is not None else vector
-
-
 def generalized_force(kin: Kinematics, load) -> sp.Matrix:
-    """τ = Σ J_Pᵀ F + J_Rᵀ T of one load, with the action and reaction of two-point loads."""
-    if isinstance(load, Force):
-        return kin.J_P(load.point).T * _world(kin, load.force, load.point.body, load.in_body_frame)
-    if isinstance(load, Torque):
-        return kin.J_R(load.body).T * _world(kin, load.torque, load.body, load.in_body_frame)
-    a, b = load.a, load.b
-    J_ab = kin.J_P(a) - kin.J_P(b)
-    d = kin.sub.add_matrix(kin.position(a) - kin.position(b))
-    length = sp.sqrt((d.T * d)[0])
-    if isinstance(load, Actuator):
-        tau = sp.zeros(kin.n, 1)
-        if load.torque is not None:
-            T = _world(kin, load.torque, a.body, load.in_body_frame)
-            tau += (kin.J_R(a.body) - kin.J_R(b.body)).T * T
-        if load.force is not None:
-            tau += J_ab.T * (load.force * d / length)
-        return tau
-    if isinstance(load, Spring):
-        if load.rest_length == 0:
-            return J_ab.T * (-load.stiffness * d)
-        return J_ab.T * (-load.stiffness * (length - load.rest_length) / length * d)
-    if isinstance(load, Damper):
-        n_ab = d / length
-        l_dot = (n_ab.T * (kin.velocity(a) - kin.velocity(b)))[0]
-        return J_ab.T * (-load.damping * l_dot * n_ab)
-    raise TypeError(f"unknown load type {type(load).__name__}")
+    """τ = Σ J_Pᵀ F + J_Rᵀ T over the forces and torques of one load (action and reaction)."""
+    tau = sp.zeros(kin.n, 1)
+    for point, F, T in applied_wrenches(kin, load):
+        tau += kin.J_P(point).T * F + kin.J_R(point.body).T * T
+    return tau

@@ -1,0 +1,47 @@
+"""The applied forces of a load: which force F and torque T act where (world axes), action and
+reaction included. Projected Newton-Euler projects them with Jacobians, the free cut puts them in the
+body balances; Lagrange II works from energy and power instead."""
+from __future__ import annotations
+
+import sympy as sp
+
+from ..kinematics import Kinematics
+from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
+
+
+def world(kin: Kinematics, vector: sp.Matrix, body, in_body_frame: bool) -> sp.Matrix:
+    """A vector given in world axes, or in the body's axes when in_body_frame."""
+    return kin.R[body] * vector if in_body_frame and body is not None else vector
+
+
+def applied_wrenches(kin: Kinematics, load) -> list[tuple[Point, sp.Matrix, sp.Matrix]]:
+    """[(point, F, T)]: force F at point and pure torque T on the point's body (world axes)."""
+    zero = sp.zeros(3, 1)
+    if isinstance(load, Force):
+        return [(load.point, world(kin, load.force, load.point.body, load.in_body_frame), zero)]
+    if isinstance(load, Torque):
+        return [(Point(load.body, zero), zero, world(kin, load.torque, load.body, load.in_body_frame))]
+    a, b = load.a, load.b
+    d = kin.sub.add_matrix(kin.position(a) - kin.position(b))
+    length = sp.sqrt((d.T * d)[0])
+    if isinstance(load, Actuator):
+        T = zero if load.torque is None else world(kin, load.torque, a.body, load.in_body_frame)
+        F = zero if load.force is None else load.force * d / length
+    elif isinstance(load, Spring):
+        F = -load.stiffness * (d if load.rest_length == 0 else (length - load.rest_length) / length * d)
+        T = zero
+    elif isinstance(load, Damper):
+        n_ab = d / length
+        l_dot = (n_ab.T * (kin.velocity(a) - kin.velocity(b)))[0]
+        F, T = -load.damping * l_dot * n_ab, zero
+    else:
+        raise TypeError(f"unknown load type {type(load).__name__}")
+    return [(a, F, T), (b, -F, -T)]
+
+
+def spring_potential(kin: Kinematics, spring: Spring) -> sp.Expr:
+    """U = ½ k (‖r_a − r_b‖ − l0)²."""
+    d = kin.position(spring.a) - kin.position(spring.b)
+    if spring.rest_length == 0:
+        return spring.stiffness * (d.T * d)[0] / 2
+    return spring.stiffness * (sp.sqrt((d.T * d)[0]) - spring.rest_length) ** 2 / 2
