@@ -5,6 +5,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from .errors import ModelError
 from .kinematics import Kinematics
 from .model.system import System
 from .subexpressions import Subexpressions
@@ -93,6 +94,37 @@ class EquationsOfMotion:
     def tau(self) -> sp.Matrix:
         """Generalized forces of all loads: forces, torques, actuators, springs, dampers."""
         return self.subexpressions.inline(self.tau_compact)
+
+    def _free_cut_result(self, key: str):
+        if key not in self.extras:
+            raise ModelError(f"{key} are a result of the free cut: derive with method='free_cut' "
+                             f"(these equations come from {self.method!r})")
+        return self.extras[key]
+
+    @property
+    def joint_wrenches(self) -> dict[str, tuple[sp.Matrix, sp.Matrix]]:
+        """Per joint, the force and torque the parent exerts on the body at the joint origin (world
+        axes), in q, u, u̇ and the loads: the reaction plus the joint force along the free direction."""
+        return {j: self._split(self.subexpressions.inline(W))
+                for j, W in self._free_cut_result("joint_wrenches").items()}
+
+    @property
+    def reactions(self) -> dict[str, tuple[sp.Matrix, sp.Matrix]]:
+        """Per joint, the reaction force and torque (world axes, at the joint origin): the joint
+        wrench without its component along the joint's free direction."""
+        return {j: self._split(self.subexpressions.inline(W))
+                for j, W in self._free_cut_result("reactions").items()}
+
+    @property
+    def cut_equations(self):
+        """The free cut before elimination (see `methods.free_cut.CutEquations`)."""
+        if "_cut" not in self._closed:
+            self._closed["_cut"] = self._free_cut_result("cut_equations")()
+        return self._closed["_cut"]
+
+    @staticmethod
+    def _split(W: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
+        return W[:3, :], W[3:, :]
 
     def coriolis_matrix(self) -> sp.Matrix:
         """C with C u = b, from the Christoffel symbols of M:

@@ -97,6 +97,29 @@ class NumericEoM:
         self._function(key := f"tau:{load}", lambda: self.eom.compact[f"tau:{load}"])
         return self.call(key, q, u, params=params)[:, 0]
 
+    def joint_wrench(self, joint: str, q, u, ud, params=None) -> tuple[np.ndarray, np.ndarray]:
+        """(F, T) the parent exerts on the body of `joint` at the joint origin, world axes (free cut)."""
+        self._function(key := f"W:{joint}", lambda: self._free_cut("joint_wrenches", joint))
+        W = self.call(key, q, u, ud, params)[:, 0]
+        return W[:3], W[3:]
+
+    def reactions(self, q, u, tau_a=None, params=None, ud=None) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Reaction force and torque of every joint (world axes, at the joint origin), with u̇ from
+        the forward dynamics unless given (free cut)."""
+        ud = self.forward_dynamics(q, u, tau_a, params) if ud is None else ud
+        out = {}
+        for joint in self._free_cut("reactions", None):
+            self._function(key := f"R:{joint}", lambda: self._free_cut("reactions", joint))
+            W = self.call(key, q, u, ud, params)[:, 0]
+            out[joint] = (W[:3], W[3:])
+        return out
+
+    def _free_cut(self, key: str, joint: str | None):
+        results = self.eom._free_cut_result(key)
+        if joint is not None and joint not in results:
+            raise ModelError(f"unknown joint {joint!r}; joints are {sorted(results)}")
+        return results[joint] if joint is not None else results
+
     def forward_dynamics(self, q, u, tau_a=None, params=None) -> np.ndarray:
         """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g), solved numerically."""
         rhs = self.tau(q, u, params) - self.b(q, u, params) - self.g(q, params)

@@ -5,9 +5,10 @@ from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..kinematics import Kinematics
 from ..model.system import System
-from . import lagrange, projected_newton_euler
+from . import free_cut, lagrange, projected_newton_euler
 
 METHODS = {
+    "free_cut": free_cut.derive,
     "projected_newton_euler": projected_newton_euler.derive,
     "lagrange": lagrange.derive,
 }
@@ -15,7 +16,7 @@ METHODS = {
 
 def derive(system: System, method: str = "projected_newton_euler") -> EquationsOfMotion:
     """Equations of motion M u̇ + b + g = τ + Sᵀ τ_a of `system` by `method`
-    ("projected_newton_euler" (default), "lagrange")."""
+    ("projected_newton_euler" (default), "lagrange", "free_cut")."""
     if not isinstance(system, System):
         raise TypeError(f"derive expects an eomgen.System, got {type(system).__name__}")
     if method not in METHODS:

@@ -45,3 +45,9 @@ def spring_potential(kin: Kinematics, spring: Spring) -> sp.Expr:
     if spring.rest_length == 0:
         return spring.stiffness * (d.T * d)[0] / 2
     return spring.stiffness * (sp.sqrt((d.T * d)[0]) - spring.rest_length) ** 2 / 2
+
+
+def potential_energy(kin: Kinematics) -> sp.Expr:
+    """U = −Σ mᵢ g⃗ · r_Sᵢ + Σ ½ k (‖r_a − r_b‖ − l0)² (gravity and springs)."""
+    U = sum((-body.mass * (kin.system.gravity.T * kin.com(body))[0] for body in kin.system.bodies), sp.Integer(0))
+    return U + sum((spring_potential(kin, s) for s in kin.system.loads if isinstance(s, Spring)), sp.Integer(0))

@@ -11,18 +11,16 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
-from ..model.loads import Point, Spring
-from .applied import applied_wrenches, spring_potential
+from ..model.loads import Point
+from .applied import applied_wrenches, potential_energy
 
 
 def derive(kin: Kinematics) -> EquationsOfMotion:
     system, sub, n = kin.system, kin.sub, kin.n
     u = sp.Matrix(kin.u)
     M, b, g = sp.zeros(n, n), sp.zeros(n, 1), sp.zeros(n, 1)
-    U = sp.Integer(0)
     for body in system.bodies:
         if not kin.chain[body]:
-            U += _gravity_potential(kin, body)
             continue
         idx = [k.index for k in kin.chain[body]]
         S = Point(body, body.com)
@@ -38,19 +36,10 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
             g[i] += g_i[a]
             for c, j in enumerate(idx):
                 M[i, j] += M_i[a, c]
-        U += _gravity_potential(kin, body)
-    compact = {"M": M, "b": b, "g": g, "T": (u.T * M * u)[0] / 2}
+    compact = {"M": M, "b": b, "g": g, "T": (u.T * M * u)[0] / 2, "U": potential_energy(kin)}
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
-        if isinstance(load, Spring):
-            U += spring_potential(kin, load)
-    compact["U"] = U
     return EquationsOfMotion(kin, "projected_newton_euler", compact)
-
-
-def _gravity_potential(kin: Kinematics, body) -> sp.Expr:
-    """U = −m g⃗ · r_S."""
-    return -body.mass * (kin.system.gravity.T * kin.com(body))[0]
 
 
 def generalized_force(kin: Kinematics, load) -> sp.Matrix:

@@ -1,0 +1,246 @@
+"""Newton-Euler with a free cut: every body cut free, the joint reactions as unknowns.
+
+Body i gets from its parent, at its joint origin p_i, the wrench (F_i, T_i): a reaction in the
+directions its joint blocks and the joint force τ_i along the direction it allows. Per body
+(moments about the centre of mass S_i, world axes):
+
+    m_i a_Si            = m_i g⃗ + F_ext,i + F_i − Σ_c F_c
+    Θ_i α_i + Ω_i × Θ_i Ω_i = T_ext,i + T_i + (p_i − r_Si) × F_i − Σ_c (T_c + (p_c − r_Si) × F_c)
+
+with a_S = J_P u̇ + J̇_P u and α = J_R u̇ + J̇_R u. Eliminating the reactions from the leaves to the
+root gives each joint's wrench, moved to its origin:
+
+    F_i = f_i + Σ_c F_c,    T_i = t_i + (r_Si − p_i) × f_i + Σ_c (T_c + (p_c − p_i) × F_c)
+
+(f_i, t_i the body's own inertial minus applied force and moment), and the generalized equation
+of joint i is its free component, τ_i = e_i · T_i (revolute) or e_i · F_i (prismatic). The terms
+multiplying u̇ give M, the bias terms b, gravity g, the loads τ."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..eom import EquationsOfMotion
+from ..kinematics import Kinematics
+from ..model import Fixed, Prismatic, Revolute
+from ..model.loads import Point
+from .applied import applied_wrenches, potential_energy
+
+Wrench = tuple[sp.Matrix, sp.Matrix]
+
+
+def derive(kin: Kinematics) -> EquationsOfMotion:
+    system, sub, n = kin.system, kin.sub, kin.n
+    moving = [b for b in system.bodies if kin.chain[b]]
+    zero = sp.zeros(3, 1)
+
+    def inertial(body, J_P_col, J_R_col) -> Wrench:
+        return body.mass * J_P_col, kin.inertia_world(body) * J_R_col
+
+    columns = []  # M[:, j] from the wrenches of u̇ = e_j
+    for j in range(n):
+        terms = {b: inertial(b, kin.J_P(Point(b, b.com))[:, j], kin.J_R(b)[:, j])
+                 for b in moving if j in [k.index for k in kin.chain[b]]}
+        columns.append(propagate(kin, terms))
+    bias = propagate(kin, {b: (b.mass * kin.Jdot_u_P(Point(b, b.com)),
+                               kin.inertia_world(b) * kin.Jdot_u_R(b)
+                               + kin.omega(b).cross(sub.add_matrix(kin.inertia_world(b) * kin.omega(b))))
+                           for b in moving})
+    gravity = propagate(kin, {b: (-b.mass * system.gravity, zero) for b in system.bodies})
+    loads = {load.name: propagate(kin, external_terms(kin, [load], sign=-1)) for load in system.loads}
+
+    joints = [b for b in system.bodies if b.index is not None]
+    M = sp.zeros(n, n)
+    for j, W in enumerate(columns):
+        for b in joints:
+            M[b.index, j] = free_component(kin, b, W[b])
+    compact = {"M": M,
+               "b": sp.Matrix(n, 1, lambda i, _: free_component(kin, joints[i], bias[joints[i]])),
+               "g": sp.Matrix(n, 1, lambda i, _: free_component(kin, joints[i], gravity[joints[i]])),
+               "U": potential_energy(kin)}
+    u = sp.Matrix(kin.u)
+    compact["T"] = (u.T * M * u)[0] / 2
+    for name, W in loads.items():
+        compact[f"tau:{name}"] = sp.Matrix(n, 1, lambda i, _: -free_component(kin, joints[i], W[joints[i]]))
+
+    ud = list(system.ud)
+    wrenches, reactions = {}, {}
+    for b in system.bodies:
+        parts = [(W[b], ud[j]) for j, W in enumerate(columns)] + [(bias[b], 1), (gravity[b], 1)]
+        parts += [(W[b], 1) for W in loads.values()]
+        F = sub.add_matrix(sum((w[0] * c for w, c in parts), zero))
+        T = sub.add_matrix(sum((w[1] * c for w, c in parts), zero))
+        wrenches[b.joint.name] = F.col_join(T)
+        reactions[b.joint.name] = _without_free_component(kin, b, F, T)
+    extras = {"joint_wrenches": wrenches, "reactions": reactions, "cut_equations": lambda: cut_equations(kin)}
+    return EquationsOfMotion(kin, "free_cut", compact, extras)
+
+
+def propagate(kin: Kinematics, terms: dict) -> dict:
+    """Joint wrenches (F_i, T_i at p_i) from the bodies' own (f_i, t_i about S_i), leaves to root."""
+    sub, W = kin.sub, {}
+    children = {b: [] for b in kin.system.bodies}
+    for b in kin.system.bodies:
+        if b.parent is not None:
+            children[b.parent].append(b)
+    for b in reversed(kin.system.bodies):  # every child comes after its parent
+        f, t = terms.get(b, (sp.zeros(3, 1), sp.zeros(3, 1)))
+        p = kin.p[b]
+        F = f + sum((W[c][0] for c in children[b]), sp.zeros(3, 1))
+        T = t + (kin.com(b) - p).cross(f) if any(x != 0 for x in f) else t
+        for c in children[b]:
+            T = T + W[c][1] + (kin.p[c] - p).cross(W[c][0])
+        W[b] = (sub.add_matrix(F), sub.add_matrix(T))
+    return W
+
+
+def external_terms(kin: Kinematics, loads, sign: int = 1) -> dict:
+    """Per body, the applied force and its moment about the centre of mass (times sign)."""
+    terms: dict = {}
+    for load in loads:
+        for point, F, T in applied_wrenches(kin, load):
+            if point.body is None:
+                continue
+            f, t = terms.get(point.body, (sp.zeros(3, 1), sp.zeros(3, 1)))
+            moment = (kin.position(point) - kin.com(point.body)).cross(F) + T
+            terms[point.body] = (f + sign * F, t + sign * moment)
+    return terms
+
+
+def free_component(kin: Kinematics, body, W: Wrench) -> sp.Expr:
+    """e · T (revolute) or e · F (prismatic): the joint force along the allowed motion."""
+    F, T = W
+    e = kin.e[body]
+    return (e.T * (F if isinstance(body.joint, Prismatic) else T))[0]
+
+
+def _without_free_component(kin: Kinematics, body, F: sp.Matrix, T: sp.Matrix) -> sp.Matrix:
+    if isinstance(body.joint, Revolute):
+        T = T - free_component(kin, body, (F, T)) * kin.e[body]
+    elif isinstance(body.joint, Prismatic):
+        F = F - free_component(kin, body, (F, T)) * kin.e[body]
+    return F.col_join(T)
+
+
+@dataclass(eq=False)
+class CutEquations:
+    """The cut-free system before elimination (closed forms, each expression = 0).
+
+    `equations` hold Newton and Euler for every body with the accelerations written through the
+    kinematics (a_S = J_P u̇ + J̇_P u); `unknowns` are the reaction components (in body axes) and u̇.
+    `with_kinematics()` keeps a_S and α as unknowns and adds the kinematic relations.
+    Planar systems keep 3 equations per body (the in-plane force and the normal moment)."""
+
+    equations: list
+    unknowns: list
+    dynamic: list  # the same balances in the acceleration symbols
+    kinematic: list  # a_S − (J_P u̇ + J̇_P u), α − (J_R u̇ + J̇_R u)
+    accelerations: list
+    planar_normal: int | None  # world axis (0, 1, 2) normal to the plane of motion, or None
+
+    def with_kinematics(self) -> tuple[list, list]:
+        """(equations, unknowns) with the accelerations of the bodies as extra unknowns."""
+        reactions = [x for x in self.unknowns if x not in self.accelerations]
+        return self.dynamic + self.kinematic, reactions + self.accelerations
+
+    def __str__(self) -> str:
+        eqs, unknowns = self.with_kinematics()
+        return (f"{len(self.equations)} equations in {len(self.unknowns)} unknowns "
+                f"({len(eqs)} in {len(unknowns)} with the kinematics)")
+
+
+def _perpendicular(a: sp.Matrix) -> sp.Matrix:
+    """Two unit vectors completing a unit axis a to an orthonormal basis (3 × 2)."""
+    for k in range(3):
+        if all(a[i] == 0 for i in range(3) if i != k):
+            return sp.eye(3)[:, [i for i in range(3) if i != k]]
+    m = min(range(3), key=lambda i: abs(float(a[i])) if a[i].is_number else 1)
+    n1 = a.cross(sp.eye(3)[:, m])
+    n1 = n1 / sp.sqrt((n1.T * n1)[0])
+    return n1.row_join(a.cross(n1))
+
+
+def constrained_basis(joint) -> tuple[sp.Matrix, sp.Matrix]:
+    """Body-axis directions of the reaction force and torque a joint can carry."""
+    if isinstance(joint, Revolute):
+        return sp.eye(3), _perpendicular(joint.axis)
+    if isinstance(joint, Prismatic):
+        return _perpendicular(joint.axis), sp.eye(3)
+    assert isinstance(joint, Fixed)
+    return sp.eye(3), sp.eye(3)
+
+
+def _planar_normal(kin: Kinematics, ud: sp.Matrix) -> int | None:
+    """The world axis the system moves perpendicular to, if all motion stays in one plane."""
+    def zero(e):
+        return sp.expand(kin.sub.inline(e)) == 0
+    for axis in range(3):
+        others = [i for i in range(3) if i != axis]
+        if kin.system.gravity[axis] != 0:
+            continue
+        if all(zero(kin.J_R(b)[i, j]) for b in kin.system.bodies for i in others for j in range(kin.n)) and \
+                all(zero(kin.J_P(Point(b, b.com))[axis, j]) for b in kin.system.bodies for j in range(kin.n)) and \
+                all(zero(F[axis]) and all(zero(T[i]) for i in others)
+                    for load in kin.system.loads for _, F, T in applied_wrenches(kin, load)):
+            return axis
+    return None
+
+
+def cut_equations(kin: Kinematics) -> CutEquations:
+    """Newton and Euler of every body cut free, with the joint reactions as unknowns."""
+    system, sub = kin.system, kin.sub
+    ud = sp.Matrix(list(system.ud))
+    normal = _planar_normal(kin, ud)
+    keep_F = [i for i in range(3) if i != normal]
+    keep_T = [normal] if normal is not None else [0, 1, 2]
+    W, reaction_unknowns = {}, []
+    for b in system.bodies:
+        B_F, B_T = constrained_basis(b.joint)
+        F, T = sp.zeros(3, 1), sp.zeros(3, 1)
+        for kind, B in (("F", B_F), ("T", B_T)):
+            for k in range(B.shape[1]):
+                direction = sub.inline(kin.R[b] * B[:, k])
+                if normal is not None and any(sp.expand(direction[i]) != 0
+                                              for i in ((normal,) if kind == "F" else keep_F)):
+                    continue  # out of the plane: decoupled, not part of the planar system
+                column = list(B[:, k])
+                name = "xyz"[column.index(1)] if sorted(column) == [0, 0, 1] else f"{k + 1}"
+                lam = sp.Symbol(f"{kind}_{b.name}_{name}")
+                reaction_unknowns.append(lam)
+                if kind == "F":
+                    F += direction * lam
+                else:
+                    T += direction * lam
+        if b.joint.actuated and b.index is not None:
+            tau = sp.Symbol(f"tau_{b.joint.name}") * sub.inline(kin.e[b])
+            F, T = (F + tau, T) if isinstance(b.joint, Prismatic) else (F, T + tau)
+        W[b] = (F, T)
+    ext = external_terms(kin, system.loads)
+    dynamic, kinematic, accelerations, substituted = [], [], [], []
+    for b in system.bodies:
+        a = sp.Matrix(sp.symbols(f"a_{b.name}_x a_{b.name}_y a_{b.name}_z"))
+        alpha = sp.Matrix(sp.symbols(f"alpha_{b.name}_x alpha_{b.name}_y alpha_{b.name}_z"))
+        S = Point(b, b.com)
+        a_of_ud = sub.inline(kin.J_P(S) * ud + kin.Jdot_u_P(S))
+        alpha_of_ud = sub.inline(kin.J_R(b) * ud + kin.Jdot_u_R(b))
+        r_S, p = sub.inline(kin.com(b)), sub.inline(kin.p[b])
+        Theta, Omega = sub.inline(kin.inertia_world(b)), sub.inline(kin.omega(b))
+        f_ext, t_ext = (sub.inline(x) for x in ext.get(b, (sp.zeros(3, 1), sp.zeros(3, 1))))
+        F, T = W[b]
+        children = [c for c in system.bodies if c.parent is b]
+        newton_F = F - sum((W[c][0] for c in children), sp.zeros(3, 1)) + b.mass * system.gravity + f_ext
+        euler_T = T + (p - r_S).cross(F) + t_ext - sum(
+            (W[c][1] + (sub.inline(kin.p[c]) - r_S).cross(W[c][0]) for c in children), sp.zeros(3, 1))
+        gyro = Omega.cross(Theta * Omega)
+        for i in keep_F:
+            dynamic.append(b.mass * a[i] - newton_F[i])
+            substituted.append(b.mass * a_of_ud[i] - newton_F[i])
+            kinematic.append(a[i] - a_of_ud[i])
+            accelerations.append(a[i])
+        for i in keep_T:
+            dynamic.append((Theta * alpha)[i] + gyro[i] - euler_T[i])
+            substituted.append((Theta * alpha_of_ud)[i] + gyro[i] - euler_T[i])
+            kinematic.append(alpha[i] - alpha_of_ud[i])
+            accelerations.append(alpha[i])
+    return CutEquations(substituted, reaction_unknowns + list(ud), dynamic, kinematic, accelerations, normal)
