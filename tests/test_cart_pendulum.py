@@ -5,7 +5,7 @@ import sympy as sp
 import eomgen as eg
 from models import cart_pendulum
 
-METHODS = ["projected_newton_euler", "lagrange"]
+METHODS = ["projected_newton_euler", "lagrange", "free_cut"]
 
 
 @pytest.mark.parametrize("method", METHODS)
@@ -53,3 +53,4 @@ def test_example_runs(capsys):
     runpy.run_path(str(Path(__file__).parents[1] / "examples" / "cart_pendulum.py"), run_name="__main__")
     out = capsys.readouterr().out
     assert "motor" in out and "[0, T_a]" in out
+    assert "6 equations in 6 unknowns (12 in 12 with the kinematics)" in out
