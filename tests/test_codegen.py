@@ -40,11 +40,10 @@ def test_names_never_reach_the_source():
     for source in f.sources.values():
         tree = ast.parse(source)
         names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
-        assert all(re.fullmatch(r"_(q|u|ud|p|x)\d+|q|u|ud|p|out|numpy", n) for n in names), names
+        assert all(re.fullmatch(r"_(q|u|ud|p|x)\d+|q|u|ud|p|out|sin|cos|sqrt", n) for n in names), names
         assert not any(isinstance(n, (ast.Import, ast.ImportFrom)) for n in ast.walk(tree))
         assert all(isinstance(c.value, (int, float)) for c in ast.walk(tree) if isinstance(c, ast.Constant))
-        attrs = {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
-        assert attrs <= {"sin", "cos", "sqrt", "zeros"}, attrs
+        assert not any(isinstance(n, ast.Attribute) for n in ast.walk(tree))
     np.testing.assert_allclose(f.g([0.3]), [9.81 * 0.5 * np.cos(0.3)])
     np.testing.assert_allclose(f.tau([0.3], [0.0], {"F'); import os #": 2.0}), [-2.0 * np.sin(0.3)])
 

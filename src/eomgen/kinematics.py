@@ -8,6 +8,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .errors import ModelError
+from .linalg import cross, matmul, scale
 from .model import Placement, Prismatic, Revolute
 from .model.loads import Point
 from .model.system import Body, Frame, System
@@ -37,15 +38,15 @@ class Kinematics:
         parent = body.parent
         R_parent = self.R[parent] if parent else sp.eye(3)
         p_parent = self.p[parent] if parent else sp.zeros(3, 1)
-        R_joint = self.sub.add_matrix(R_parent * body.placement.rotation)
-        p_joint = p_parent + R_parent * body.placement.translation
+        R_joint = self.sub.add_matrix(matmul(R_parent, body.placement.rotation))
+        p_joint = p_parent + matmul(R_parent, body.placement.translation)
         R_q, t_q = body.joint.motion()
-        self.R[body] = self.sub.add_matrix(R_joint * R_q)
+        self.R[body] = self.sub.add_matrix(matmul(R_joint, R_q))
         chain = list(self.chain[parent]) if parent else []
         if body.index is not None:
-            self.e[body] = self.sub.add_matrix(R_joint * body.joint.axis)
+            self.e[body] = self.sub.add_matrix(matmul(R_joint, body.joint.axis))
             chain.append(body)
-        self.p[body] = self.sub.add_matrix(p_joint + (self.e[body] * body.joint.q
+        self.p[body] = self.sub.add_matrix(p_joint + (scale(body.joint.q, self.e[body])
                                                       if isinstance(body.joint, Prismatic) else t_q))
         self.chain[body] = chain
 
@@ -55,7 +56,7 @@ class Kinematics:
         if point.body is None:
             return point.offset
         return self._cached(("r", point.body, tuple(point.offset)),
-                            lambda: self.sub.add_matrix(self.p[point.body] + self.R[point.body] * point.offset))
+                            lambda: self.sub.add_matrix(self.p[point.body] + matmul(self.R[point.body], point.offset)))
 
     def com(self, body: Body) -> sp.Matrix:
         return self.position(Point(body, body.com))
@@ -63,13 +64,13 @@ class Kinematics:
     def frame_placement(self, name: str) -> tuple[sp.Matrix, sp.Matrix]:
         """(R, r) of a named frame in the world."""
         f = self._frame(name)
-        R = self._cached(("R", name), lambda: self.sub.add_matrix(self.R[f.body] * f.placement.rotation))
+        R = self._cached(("R", name), lambda: self.sub.add_matrix(matmul(self.R[f.body], f.placement.rotation)))
         return R, self.position(Point(f.body, f.placement.translation))
 
     def inertia_world(self, body: Body) -> sp.Matrix:
         """Θ in world axes: R Θ Rᵀ (about the centre of mass)."""
         R = self.R[body]
-        return self._cached(("Theta", body), lambda: self.sub.add_matrix(R * body.inertia * R.T))
+        return self._cached(("Theta", body), lambda: self.sub.add_matrix(matmul(matmul(R, body.inertia), R.T)))
 
     # --- Jacobians (3 × n, world axes) --------------------------------------------------------
     def J_P(self, point: Point) -> sp.Matrix:
@@ -80,7 +81,7 @@ class Kinematics:
                 return J
             r = self.position(point)
             for k in self.chain[point.body]:
-                col = self.e[k] if isinstance(k.joint, Prismatic) else self.e[k].cross(r - self.p[k])
+                col = self.e[k] if isinstance(k.joint, Prismatic) else cross(self.e[k], r - self.p[k])
                 J[:, k.index] = self.sub.add_matrix(col)
             return J
         return self._cached(("J_P", point.body, tuple(point.offset)), build)
@@ -102,11 +103,11 @@ class Kinematics:
     def velocity(self, point: Point) -> sp.Matrix:
         """v = J_P u."""
         return self._cached(("v", point.body, tuple(point.offset)),
-                            lambda: self.sub.add_matrix(self.J_P(point) * sp.Matrix(self.u)))
+                            lambda: self.sub.add_matrix(matmul(self.J_P(point), sp.Matrix(self.u))))
 
     def omega(self, body: Body | None) -> sp.Matrix:
         """Ω = J_R u."""
-        return self._cached(("w", body), lambda: self.sub.add_matrix(self.J_R(body) * sp.Matrix(self.u)))
+        return self._cached(("w", body), lambda: self.sub.add_matrix(matmul(self.J_R(body), sp.Matrix(self.u))))
 
     def time_derivative(self, expr: sp.Matrix) -> sp.Matrix:
         """d/dt by the chain rule, q̇ = u and u held fixed (so d/dt (J u) = J̇ u)."""

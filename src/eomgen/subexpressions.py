@@ -29,7 +29,7 @@ def is_trivial(expr: sp.Expr) -> bool:
 class Subexpressions:
     """An ordered set of definitions x_k = e_k, with directional derivatives through them."""
 
-    def __init__(self, prefix: str = "x") -> None:
+    def __init__(self, prefix: str = "_ξ") -> None:
         self.prefix = prefix
         self.definitions: dict[sp.Symbol, sp.Expr] = {}
         self._index: dict[sp.Symbol, int] = {}
@@ -45,7 +45,7 @@ class Subexpressions:
         expr = sp.sympify(expr)
         if is_trivial(expr):
             return expr
-        symbol = sp.Dummy(f"{self.prefix}{len(self.definitions)}")
+        symbol = sp.Symbol(f"{self.prefix}{len(self.definitions)}")  # not Dummy: same model, same order
         self._index[symbol] = len(self.definitions)
         self._uses[symbol] = tuple(s for s in expr.free_symbols if s in self.definitions)
         self.definitions[symbol] = expr
@@ -76,12 +76,42 @@ class Subexpressions:
         return self._direct(expr, seeds, key)
 
     def _direct(self, expr: sp.Expr, seeds: Mapping[sp.Symbol, sp.Expr], key) -> sp.Expr:
-        terms = []
-        for y in expr.free_symbols:
-            dy = seeds.get(y, 0) if y not in self.definitions else self._derivatives[(y, key)]
-            if dy != 0:
-                terms.append(sp.diff(expr, y) * dy)
-        return sp.Add(*terms)
+        """Forward-mode derivative of one definition: sum, product, power and sin/cos rules, the
+        symbols' derivatives from the seeds and the memo."""
+        memo: dict = {}
+
+        def d(e):
+            if e in memo:
+                return memo[e]
+            if e.is_Symbol:
+                r = self._derivatives[(e, key)] if e in self.definitions else seeds.get(e, 0)
+            elif e.is_Number:
+                r = 0
+            elif e.is_Add:
+                r = sp.Add(*[d(a) for a in e.args])
+            elif e.is_Mul:
+                terms = []
+                for i, a in enumerate(e.args):
+                    da = d(a)
+                    if da != 0:
+                        terms.append(sp.Mul(*e.args[:i], da, *e.args[i + 1:]))
+                r = sp.Add(*terms)
+            elif e.is_Pow:
+                base, exp = e.args
+                db = d(base)
+                if exp.free_symbols and d(exp) != 0:
+                    r = sp.diff(e, base) * db + sp.diff(e, exp) * d(exp)
+                else:
+                    r = 0 if db == 0 else exp * base ** (exp - 1) * db
+            elif isinstance(e, (sp.sin, sp.cos)):
+                da = d(e.args[0])
+                r = 0 if da == 0 else (sp.cos(e.args[0]) if isinstance(e, sp.sin) else -sp.sin(e.args[0])) * da
+            else:  # any other function: the general rule, symbol by symbol
+                r = sp.Add(*[sp.diff(e, y) * d(y) for y in e.free_symbols if d(y) != 0])
+            memo[e] = r
+            return r
+
+        return d(expr)
 
     def inline(self, expr):
         """Substitute every intermediate by its definition: the closed form in q, u and parameters."""

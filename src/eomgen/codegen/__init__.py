@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
@@ -14,10 +15,27 @@ from .numpy_backend import FunctionWriter, compile_function
 BACKENDS = ("numpy",)
 
 
+@dataclass
+class Generated:
+    """One generated function: its source, output shape and operation count."""
+
+    source: str
+    shape: tuple
+    ops: int
+    single: Callable  # math on Python floats, one state
+    batched: Callable  # numpy, states along the last axis
+
+    def params_used(self) -> set[int]:
+        return {int(k) for k in re.findall(r"\b_p(\d+) =", self.source)}
+
+
 class NumericEoM:
-    """Numeric M(q), b(q, u), g(q), tau(q, u), T(q, u), U(q), frame Jacobians and forward dynamics
-    of one `EquationsOfMotion`. Symbolic parameters (see `params`) are given as a mapping from the
-    symbol or its name to a value in each call; a function asks only for the ones it uses."""
+    """Numeric M(q), b(q, u), g(q), tau(q, u), T(q, u), U(q), frame Jacobians, forward dynamics and
+    (free cut) joint reactions of one `EquationsOfMotion`.
+
+    q and u are arrays of shape (n,), or (N, n) for N states at once (evaluated without a Python
+    loop). Symbolic parameters (see `params`) are given as a mapping from the symbol or its name to a
+    value in each call; a function asks only for the ones it uses."""
 
     def __init__(self, eom: EquationsOfMotion) -> None:
         self.eom = eom
@@ -25,60 +43,77 @@ class NumericEoM:
         self.params = sorted(eom.system.parameters, key=str)
         self._writer = FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u),
                                                            "ud": list(eom.system.ud), "p": self.params})
-        self.sources: dict[str, str] = {}
-        self._functions: dict[str, Callable] = {}
+        self.functions: dict[str, Generated] = {}
         for name in ("M", "b", "g", "tau", "T", "U"):
-            self._function(name, lambda name=name: eom.tau_compact if name == "tau" else eom.compact[name])
+            self._function(name, lambda name=name: eom.tau_compact if name == "tau" else eom.compact[name],
+                           symmetric=name == "M")
 
-    def _function(self, key: str, build: Callable[[], sp.Basic]) -> Callable:
+    @property
+    def sources(self) -> dict[str, str]:
+        return {k: f.source for k, f in self.functions.items()}
+
+    @property
+    def ops(self) -> dict[str, int]:
+        """Floating-point operations of each generated function (after sharing the intermediates)."""
+        return {k: f.ops for k, f in self.functions.items()}
+
+    def _function(self, key: str, build: Callable[[], sp.Basic], symmetric: bool = False) -> Generated:
         """The generated function `key`, written on first request."""
-        if key not in self._functions:
-            self.sources[key] = self._writer.source("f", build())
-            self._functions[key] = compile_function(self.sources[key], "f")
-        return self._functions[key]
+        if key not in self.functions:
+            source, shape, ops = self._writer.source("f", build(), symmetric)
+            self.functions[key] = Generated(source, shape, ops, compile_function(source, "f", False),
+                                            compile_function(source, "f", True))
+        return self.functions[key]
 
-    def _p(self, params: Mapping | None, key: str) -> np.ndarray:
+    def _p(self, params: Mapping | None, key: str) -> list[float]:
         """The parameter vector; only the parameters that function `key` uses must be given."""
         by_name = {str(k): v for k, v in dict(params or {}).items()}
-        used = {int(k) for k in re.findall(r"\b_p(\d+) =", self.sources[key])}
+        used = self.functions[key].params_used()
         missing = [str(s) for k, s in enumerate(self.params) if k in used and str(s) not in by_name]
         if missing:
             raise ModelError(f"values missing for the parameters {missing}")
-        return np.array([float(by_name.get(str(s), np.nan)) for s in self.params])
+        return [float(by_name.get(str(s), np.nan)) for s in self.params]
 
-    def _state(self, x, name: str) -> np.ndarray:
+    def _state(self, x, name: str, batch: tuple | None) -> np.ndarray:
         if x is None:
-            return np.zeros(self.nq)
+            return np.zeros((batch or ()) + (self.nq,))
         x = np.asarray(x, dtype=float)
-        if x.shape != (self.nq,):
-            raise ValueError(f"{name}: expected shape ({self.nq},), got {x.shape}")
+        if x.ndim not in (1, 2) or x.shape[-1] != self.nq or (batch is not None and x.shape[:-1] != batch):
+            want = f"({self.nq},) or (N, {self.nq})" if batch is None else str(batch + (self.nq,))
+            raise ValueError(f"{name}: expected shape {want}, got {x.shape}")
         if not np.all(np.isfinite(x)):
             raise ValueError(f"{name}: contains NaN or infinite values")
         return x
 
-    def call(self, key: str, q, u=None, ud=None, params=None):
-        """Evaluate generated function `key` (see `sources`) at q, u, u̇."""
-        return self._functions[key](self._state(q, "q"), self._state(u, "u"), self._state(ud, "ud"),
-                                    self._p(params, key))
+    def call(self, key: str, q, u=None, ud=None, params=None) -> np.ndarray:
+        """Evaluate generated function `key` at q, u, u̇ (one state, or N states along axis 0)."""
+        f = self.functions[key]
+        q = self._state(q, "q", None)
+        batch = q.shape[:-1]
+        u, ud, p = self._state(u, "u", batch), self._state(ud, "ud", batch), self._p(params, key)
+        if not batch:
+            return f.single(q.tolist(), u.tolist(), ud.tolist(), p, np.zeros(f.shape))
+        out = f.batched(q.T, u.T, ud.T, p, np.zeros(f.shape + batch))
+        return np.moveaxis(out, (0, 1), (-2, -1))
 
     def M(self, q, params=None) -> np.ndarray:
         return self.call("M", q, params=params)
 
     def b(self, q, u, params=None) -> np.ndarray:
-        return self.call("b", q, u, params=params)[:, 0]
+        return self.call("b", q, u, params=params)[..., 0]
 
     def g(self, q, params=None) -> np.ndarray:
-        return self.call("g", q, params=params)[:, 0]
+        return self.call("g", q, params=params)[..., 0]
 
     def tau(self, q, u, params=None) -> np.ndarray:
         """Generalized forces of all loads."""
-        return self.call("tau", q, u, params=params)[:, 0]
+        return self.call("tau", q, u, params=params)[..., 0]
 
-    def T(self, q, u, params=None) -> float:
-        return float(self.call("T", q, u, params=params))
+    def T(self, q, u, params=None):
+        return self.call("T", q, u, params=params)[..., 0, 0]
 
-    def U(self, q, params=None) -> float:
-        return float(self.call("U", q, params=params))
+    def U(self, q, params=None):
+        return self.call("U", q, params=params)[..., 0, 0]
 
     def jacobian(self, frame: str, q, params=None) -> np.ndarray:
         """6 × n Jacobian [J_P; J_R] of a frame or body origin, world-aligned axes."""
@@ -88,20 +123,20 @@ class NumericEoM:
     def jacobian_dot_u(self, frame: str, q, u, params=None) -> np.ndarray:
         """J̇ u (6-vector, [linear; angular]) of a frame or body origin."""
         self._function(key := f"Jdot_u:{frame}", lambda: self.eom.kinematics.jacobian_dot_u(frame))
-        return self.call(key, q, u, params=params)[:, 0]
+        return self.call(key, q, u, params=params)[..., 0]
 
     def tau_of(self, load: str, q, u, params=None) -> np.ndarray:
         """Generalized force of one load, by name."""
         if load not in self.eom.load_names:
             raise ModelError(f"unknown load {load!r}; loads are {self.eom.load_names}")
         self._function(key := f"tau:{load}", lambda: self.eom.compact[f"tau:{load}"])
-        return self.call(key, q, u, params=params)[:, 0]
+        return self.call(key, q, u, params=params)[..., 0]
 
     def joint_wrench(self, joint: str, q, u, ud, params=None) -> tuple[np.ndarray, np.ndarray]:
         """(F, T) the parent exerts on the body of `joint` at the joint origin, world axes (free cut)."""
         self._function(key := f"W:{joint}", lambda: self._free_cut("joint_wrenches", joint))
-        W = self.call(key, q, u, ud, params)[:, 0]
-        return W[:3], W[3:]
+        W = self.call(key, q, u, ud, params)[..., 0]
+        return W[..., :3], W[..., 3:]
 
     def reactions(self, q, u, tau_a=None, params=None, ud=None) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Reaction force and torque of every joint (world axes, at the joint origin), with u̇ from
@@ -110,8 +145,8 @@ class NumericEoM:
         out = {}
         for joint in self._free_cut("reactions", None):
             self._function(key := f"R:{joint}", lambda: self._free_cut("reactions", joint))
-            W = self.call(key, q, u, ud, params)[:, 0]
-            out[joint] = (W[:3], W[3:])
+            W = self.call(key, q, u, ud, params)[..., 0]
+            out[joint] = (W[..., :3], W[..., 3:])
         return out
 
     def _free_cut(self, key: str, joint: str | None):
@@ -124,8 +159,9 @@ class NumericEoM:
         """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g), solved numerically."""
         rhs = self.tau(q, u, params) - self.b(q, u, params) - self.g(q, params)
         if tau_a is not None:
-            rhs += np.array(self.eom.S.T.tolist(), dtype=float).reshape(self.nq, -1) @ np.asarray(tau_a, float)
-        return np.linalg.solve(self.M(q, params), rhs)
+            S = np.array(self.eom.S.tolist(), dtype=float).reshape(-1, self.nq)
+            rhs = rhs + np.asarray(tau_a, float) @ S
+        return np.linalg.solve(self.M(q, params), rhs[..., None])[..., 0]
 
 
 def codegen(eom: EquationsOfMotion, backend: str = "numpy") -> NumericEoM:

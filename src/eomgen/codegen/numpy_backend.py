@@ -1,72 +1,123 @@
-"""NumPy backend: each requested quantity becomes a Python function that evaluates the needed
-intermediates in order and fills the output array.
+"""Python/NumPy source for the equations of motion.
 
-Generated names are ours (_q0, _u0, _p0, _x0, ...): no text of the model (body, joint or symbol
-names) is ever printed into the source, so exec'ing it can run nothing but arithmetic."""
+A generated function `f(q, u, ud, p, out)` evaluates, in order, the intermediates its outputs need
+and writes the outputs into `out` (shape (rows, cols) + batch). The same text runs with `math`
+(one state, Python floats: fast per call) and with `numpy` (states along the last axis: batched).
+
+Generated names are ours (_q0, _u0, _ud0, _p0, _x0, ...): no text of the model (body, joint or
+symbol names) is ever printed into the source, so running it can do nothing but arithmetic."""
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import sympy as sp
-from sympy.printing.numpy import NumPyPrinter
 
 from ..subexpressions import Subexpressions
 
+FUNCTIONS = ("sin", "cos", "sqrt")
 
-class _Printer(NumPyPrinter):
-    def _print_Float(self, expr):
-        return repr(float(expr))
+
+class Printer:
+    """A small printer for the expressions eomgen builds (sums, products, powers, sin, cos, sqrt),
+    counting the floating-point operations it writes."""
+
+    def __init__(self, names: dict[sp.Symbol, str]) -> None:
+        self.names = names
+        self.ops = 0
+
+    def __call__(self, e: sp.Expr) -> str:
+        if e.is_Symbol:
+            try:
+                return self.names[e]
+            except KeyError:
+                raise ValueError(f"symbol without a value: {e}") from None
+        if e.is_Integer:
+            return f"{int(e)}.0" if abs(int(e)) < 2**53 else repr(float(e))
+        if e.is_Number:
+            return repr(float(e))
+        if e.is_Add:
+            self.ops += len(e.args) - 1
+            return "(" + " + ".join(self(a) for a in e.args) + ")"
+        if e.is_Mul:
+            args = list(e.args)
+            sign = ""
+            if args[0] == -1:
+                sign, args = "-", args[1:]
+            self.ops += len(args) - 1 + (sign == "-")
+            return "(" + sign + "*".join(self(a) for a in args) + ")"
+        if e.is_Pow:
+            base, exp = e.args
+            if exp == sp.Rational(1, 2):
+                self.ops += 1
+                return f"sqrt({self(base)})"
+            if exp == -sp.Rational(1, 2):
+                self.ops += 2
+                return f"(1.0/sqrt({self(base)}))"
+            if exp.is_Integer and 0 < int(exp) <= 4:
+                self.ops += int(exp) - 1
+                b = self(base)
+                return "(" + "*".join([b] * int(exp)) + ")"
+            if exp == -1:
+                self.ops += 1
+                return f"(1.0/{self(base)})"
+            self.ops += 1
+            return f"({self(base)}**{self(exp)})"
+        if isinstance(e, (sp.sin, sp.cos)):
+            self.ops += 1
+            return f"{type(e).__name__}({self(e.args[0])})"
+        raise ValueError(f"cannot generate code for {type(e).__name__}: {e}")
 
 
 class FunctionWriter:
-    """Prints functions of one set of sub-results; each definition is printed once for all of them."""
+    """Writes functions of one set of sub-results; each definition is printed once for all of them."""
 
     def __init__(self, sub: Subexpressions, inputs: dict[str, list[sp.Symbol]]) -> None:
         self.sub, self.inputs = sub, inputs
-        self.rename = {s: sp.Symbol(f"_{arg}{k}") for arg, symbols in inputs.items()
-                       for k, s in enumerate(symbols)}
-        self.printer = _Printer()
-        self._lines: dict[sp.Symbol, str] = {}
+        names = {s: f"_{arg}{k}" for arg, symbols in inputs.items() for k, s in enumerate(symbols)}
+        self.printer = Printer(names)
+        self._lines: dict[sp.Symbol, tuple[str, int]] = {}
 
-    def _line(self, s: sp.Symbol) -> str:
+    def _line(self, s: sp.Symbol) -> tuple[str, int]:
         if s not in self._lines:
-            self._lines[s] = f"    {self.rename[s]} = {self.printer.doprint(self.sub.definitions[s].xreplace(self.rename))}"
+            before = self.printer.ops
+            text = f"    {self.printer.names[s]} = {self.printer(self.sub.definitions[s])}"
+            self._lines[s] = (text, self.printer.ops - before)
         return self._lines[s]
 
-    def source(self, name: str, outputs: sp.Basic) -> str:
-        """Source of `def name(q, u, p)` returning `outputs` (a matrix, or a scalar expression)."""
+    def source(self, name: str, outputs: sp.Basic, symmetric: bool = False) -> tuple[str, tuple, int]:
+        """(source of `def name(q, u, ud, p, out)`, output shape, operation count). With `symmetric`
+        only the upper triangle is computed and mirrored."""
         for k, s in enumerate(self.sub.definitions):  # intermediates added since the last call
-            self.rename.setdefault(s, sp.Symbol(f"_x{k}"))
-        return function_source(self, name, outputs)
-
-
-def function_source(writer: FunctionWriter, name: str, outputs: sp.Basic) -> str:
-    matrix = isinstance(outputs, sp.MatrixBase)
-    exprs = list(outputs) if matrix else [outputs]
-    rename, printer = writer.rename, writer.printer
-    needed = writer.sub.dependencies(exprs)
-    used = set().union(*(writer.sub.definitions[s].free_symbols for s in needed),
-                       *(sp.sympify(e).free_symbols for e in exprs))
-    lines = [f"def {name}({', '.join(writer.inputs)}):"]
-    for arg, symbols in writer.inputs.items():
-        lines += [f"    _{arg}{k} = {arg}[{k}]" for k, s in enumerate(symbols) if s in used]
-    lines += [writer._line(s) for s in needed]
-    values = [printer.doprint(sp.sympify(e).xreplace(rename)) for e in exprs]
-    unknown = set().union(*(sp.sympify(e).free_symbols for e in exprs)) - set(rename)
-    if unknown:
-        raise ValueError(f"{name}: symbols without a value: {sorted(map(str, unknown))}")
-    if matrix:
-        rows, cols = outputs.shape
-        lines.append(f"    out = numpy.zeros(({rows}, {cols}))")
-        for k, v in enumerate(values):
-            if v != "0":
-                lines.append(f"    out[{k // cols}, {k % cols}] = {v}")
+            self.printer.names.setdefault(s, f"_x{k}")
+        matrix = outputs if isinstance(outputs, sp.MatrixBase) else sp.Matrix([[outputs]])
+        rows, cols = matrix.shape
+        cells = [(i, j) for i in range(rows) for j in range(cols) if not symmetric or j >= i]
+        exprs = [sp.sympify(matrix[i, j]) for i, j in cells]
+        needed = self.sub.dependencies(exprs)
+        used = set().union(*(self.sub.definitions[s].free_symbols for s in needed),
+                           *(e.free_symbols for e in exprs))
+        lines = [f"def {name}(q, u, ud, p, out):"]
+        for arg, symbols in self.inputs.items():
+            lines += [f"    _{arg}{k} = {arg}[{k}]" for k, s in enumerate(symbols) if s in used]
+        ops = 0
+        for s in needed:
+            text, n = self._line(s)
+            lines.append(text)
+            ops += n
+        for (i, j), e in zip(cells, exprs):
+            if e != 0:
+                before = self.printer.ops
+                lines.append(f"    out[{i}, {j}] = {self.printer(e)}")
+                ops += self.printer.ops - before
+                if symmetric and i != j:
+                    lines.append(f"    out[{j}, {i}] = out[{i}, {j}]")
         lines.append("    return out")
-    else:
-        lines.append(f"    return {values[0]}")
-    return "\n".join(lines) + "\n"
+        return "\n".join(lines) + "\n", (rows, cols), ops
 
 
-def compile_function(source: str, name: str):
-    namespace = {"numpy": np}
+def compile_function(source: str, name: str, batched: bool):
+    """The function defined by `source`, with sin, cos, sqrt from math (one state) or numpy."""
+    namespace = {f: getattr(np if batched else math, f) for f in FUNCTIONS}
     exec(compile(source, f"<eomgen {name}>", "exec"), namespace)  # our own generated arithmetic only
     return namespace[name]

@@ -6,12 +6,13 @@ from __future__ import annotations
 import sympy as sp
 
 from ..kinematics import Kinematics
+from ..linalg import dot, matmul, mul
 from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
 
 
 def world(kin: Kinematics, vector: sp.Matrix, body, in_body_frame: bool) -> sp.Matrix:
     """A vector given in world axes, or in the body's axes when in_body_frame."""
-    return kin.R[body] * vector if in_body_frame and body is not None else vector
+    return matmul(kin.R[body], vector) if in_body_frame and body is not None else vector
 
 
 def applied_wrenches(kin: Kinematics, load) -> list[tuple[Point, sp.Matrix, sp.Matrix]]:
@@ -49,5 +50,12 @@ def spring_potential(kin: Kinematics, spring: Spring) -> sp.Expr:
 
 def potential_energy(kin: Kinematics) -> sp.Expr:
     """U = −Σ mᵢ g⃗ · r_Sᵢ + Σ ½ k (‖r_a − r_b‖ − l0)² (gravity and springs)."""
-    U = sum((-body.mass * (kin.system.gravity.T * kin.com(body))[0] for body in kin.system.bodies), sp.Integer(0))
+    U = sum((-mul(body.mass, dot(kin.system.gravity, kin.com(body))) for body in kin.system.bodies), sp.Integer(0))
     return U + sum((spring_potential(kin, s) for s in kin.system.loads if isinstance(s, Spring)), sp.Integer(0))
+
+
+def add_armature(kin: Kinematics, M: sp.Matrix) -> None:
+    """M_ii += armature_i (rotor inertia reflected through the gear), in place."""
+    for body in kin.system.bodies:
+        if body.index is not None and body.joint.armature != 0:
+            M[body.index, body.index] += body.joint.armature

@@ -23,9 +23,10 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
+from ..linalg import cross, dot, matmul, scale
 from ..model import Fixed, Prismatic, Revolute
 from ..model.loads import Point
-from .applied import applied_wrenches, potential_energy
+from .applied import add_armature, applied_wrenches, potential_energy
 
 Wrench = tuple[sp.Matrix, sp.Matrix]
 
@@ -36,18 +37,18 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
     zero = sp.zeros(3, 1)
 
     def inertial(body, J_P_col, J_R_col) -> Wrench:
-        return body.mass * J_P_col, kin.inertia_world(body) * J_R_col
+        return scale(body.mass, J_P_col), matmul(kin.inertia_world(body), J_R_col)
 
     columns = []  # M[:, j] from the wrenches of u̇ = e_j
     for j in range(n):
         terms = {b: inertial(b, kin.J_P(Point(b, b.com))[:, j], kin.J_R(b)[:, j])
                  for b in moving if j in [k.index for k in kin.chain[b]]}
         columns.append(propagate(kin, terms))
-    bias = propagate(kin, {b: (b.mass * kin.Jdot_u_P(Point(b, b.com)),
-                               kin.inertia_world(b) * kin.Jdot_u_R(b)
-                               + kin.omega(b).cross(sub.add_matrix(kin.inertia_world(b) * kin.omega(b))))
+    bias = propagate(kin, {b: (scale(b.mass, kin.Jdot_u_P(Point(b, b.com))),
+                               matmul(kin.inertia_world(b), kin.Jdot_u_R(b))
+                               + cross(kin.omega(b), sub.add_matrix(matmul(kin.inertia_world(b), kin.omega(b)))))
                            for b in moving})
-    gravity = propagate(kin, {b: (-b.mass * system.gravity, zero) for b in system.bodies})
+    gravity = propagate(kin, {b: (scale(-b.mass, system.gravity), zero) for b in system.bodies})
     loads = {load.name: propagate(kin, external_terms(kin, [load], sign=-1)) for load in system.loads}
 
     joints = [b for b in system.bodies if b.index is not None]
@@ -55,12 +56,13 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
     for j, W in enumerate(columns):
         for b in joints:
             M[b.index, j] = free_component(kin, b, W[b])
+    add_armature(kin, M)
     compact = {"M": M,
                "b": sp.Matrix(n, 1, lambda i, _: free_component(kin, joints[i], bias[joints[i]])),
                "g": sp.Matrix(n, 1, lambda i, _: free_component(kin, joints[i], gravity[joints[i]])),
                "U": potential_energy(kin)}
     u = sp.Matrix(kin.u)
-    compact["T"] = (u.T * M * u)[0] / 2
+    compact["T"] = dot(u, matmul(M, u)) / 2
     for name, W in loads.items():
         compact[f"tau:{name}"] = sp.Matrix(n, 1, lambda i, _: -free_component(kin, joints[i], W[joints[i]]))
 
@@ -69,8 +71,8 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
     for b in system.bodies:
         parts = [(W[b], ud[j]) for j, W in enumerate(columns)] + [(bias[b], 1), (gravity[b], 1)]
         parts += [(W[b], 1) for W in loads.values()]
-        F = sub.add_matrix(sum((w[0] * c for w, c in parts), zero))
-        T = sub.add_matrix(sum((w[1] * c for w, c in parts), zero))
+        F = sub.add_matrix(sum((scale(c, w[0]) for w, c in parts), zero))
+        T = sub.add_matrix(sum((scale(c, w[1]) for w, c in parts), zero))
         wrenches[b.joint.name] = F.col_join(T)
         reactions[b.joint.name] = _without_free_component(kin, b, F, T)
     extras = {"joint_wrenches": wrenches, "reactions": reactions, "cut_equations": lambda: cut_equations(kin)}
@@ -88,9 +90,9 @@ def propagate(kin: Kinematics, terms: dict) -> dict:
         f, t = terms.get(b, (sp.zeros(3, 1), sp.zeros(3, 1)))
         p = kin.p[b]
         F = f + sum((W[c][0] for c in children[b]), sp.zeros(3, 1))
-        T = t + (kin.com(b) - p).cross(f) if any(x != 0 for x in f) else t
+        T = t + cross(kin.com(b) - p, f)
         for c in children[b]:
-            T = T + W[c][1] + (kin.p[c] - p).cross(W[c][0])
+            T = T + W[c][1] + cross(kin.p[c] - p, W[c][0])
         W[b] = (sub.add_matrix(F), sub.add_matrix(T))
     return W
 
@@ -103,7 +105,7 @@ def external_terms(kin: Kinematics, loads, sign: int = 1) -> dict:
             if point.body is None:
                 continue
             f, t = terms.get(point.body, (sp.zeros(3, 1), sp.zeros(3, 1)))
-            moment = (kin.position(point) - kin.com(point.body)).cross(F) + T
+            moment = cross(kin.position(point) - kin.com(point.body), F) + T
             terms[point.body] = (f + sign * F, t + sign * moment)
     return terms
 
@@ -112,14 +114,14 @@ def free_component(kin: Kinematics, body, W: Wrench) -> sp.Expr:
     """e · T (revolute) or e · F (prismatic): the joint force along the allowed motion."""
     F, T = W
     e = kin.e[body]
-    return (e.T * (F if isinstance(body.joint, Prismatic) else T))[0]
+    return dot(e, F if isinstance(body.joint, Prismatic) else T)
 
 
 def _without_free_component(kin: Kinematics, body, F: sp.Matrix, T: sp.Matrix) -> sp.Matrix:
     if isinstance(body.joint, Revolute):
-        T = T - free_component(kin, body, (F, T)) * kin.e[body]
+        T = T - scale(free_component(kin, body, (F, T)), kin.e[body])
     elif isinstance(body.joint, Prismatic):
-        F = F - free_component(kin, body, (F, T)) * kin.e[body]
+        F = F - scale(free_component(kin, body, (F, T)), kin.e[body])
     return F.col_join(T)
 
 

@@ -39,6 +39,8 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
         Omega_B = angular_velocity_body(kin, body)
         T_parts.append(sub.add(body.mass * (v_S.T * v_S)[0] / 2
                                + (Omega_B.T * body.inertia * Omega_B)[0] / 2))
+    T_parts += [body.joint.armature * u[body.index] ** 2 / 2 for body in system.bodies
+                if body.index is not None and body.joint.armature != 0]  # rotors: ½ I_a u_i²
     T = sp.Add(*T_parts)
     p = [sub.add(d_du(T, j)) for j in range(n)]
     M = sp.Matrix(n, n, lambda i, j: d_du(p[i], j))

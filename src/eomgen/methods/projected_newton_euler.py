@@ -4,15 +4,16 @@
     b = Σ_i J_Pᵢᵀ mᵢ J̇_Pᵢ u + J_Rᵢᵀ (Θᵢ J̇_Rᵢ u + Ωᵢ × Θᵢ Ωᵢ)
     g = −Σ_i J_Pᵢᵀ mᵢ g⃗
     τ = Σ J_Pᵀ F + J_Rᵀ T   for every applied force F and torque T
-(J_P of the centre of mass, Θ about it, all in world axes)."""
+(J_P of the centre of mass, Θ about it, all in world axes), plus each joint's armature on M's diagonal."""
 from __future__ import annotations
 
 import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
+from ..linalg import cross, dot, matmul, scale
 from ..model.loads import Point
-from .applied import applied_wrenches, potential_energy
+from .applied import add_armature, applied_wrenches, potential_energy
 
 
 def derive(kin: Kinematics) -> EquationsOfMotion:
@@ -26,17 +27,18 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
         S = Point(body, body.com)
         J_P, J_R = kin.J_P(S)[:, idx], kin.J_R(body)[:, idx]
         Theta, Omega = kin.inertia_world(body), kin.omega(body)
-        ThetaJ_R = sub.add_matrix(Theta * J_R)
-        M_i = body.mass * J_P.T * J_P + J_R.T * ThetaJ_R
-        b_i = J_P.T * (body.mass * kin.Jdot_u_P(S)) + J_R.T * (
-            Theta * kin.Jdot_u_R(body) + Omega.cross(sub.add_matrix(Theta * Omega)))
-        g_i = -J_P.T * (body.mass * system.gravity)
+        ThetaJ_R = sub.add_matrix(matmul(Theta, J_R))
+        M_i = scale(body.mass, matmul(J_P.T, J_P)) + matmul(J_R.T, ThetaJ_R)
+        b_i = matmul(J_P.T, scale(body.mass, kin.Jdot_u_P(S))) + matmul(J_R.T, (
+            matmul(Theta, kin.Jdot_u_R(body)) + cross(Omega, sub.add_matrix(matmul(Theta, Omega)))))
+        g_i = matmul(J_P.T, scale(-body.mass, system.gravity))
         for a, i in enumerate(idx):
             b[i] += b_i[a]
             g[i] += g_i[a]
             for c, j in enumerate(idx):
                 M[i, j] += M_i[a, c]
-    compact = {"M": M, "b": b, "g": g, "T": (u.T * M * u)[0] / 2, "U": potential_energy(kin)}
+    add_armature(kin, M)
+    compact = {"M": M, "b": b, "g": g, "T": dot(u, matmul(M, u)) / 2, "U": potential_energy(kin)}
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "projected_newton_euler", compact)
@@ -46,5 +48,5 @@ def generalized_force(kin: Kinematics, load) -> sp.Matrix:
     """τ = Σ J_Pᵀ F + J_Rᵀ T over the forces and torques of one load (action and reaction)."""
     tau = sp.zeros(kin.n, 1)
     for point, F, T in applied_wrenches(kin, load):
-        tau += kin.J_P(point).T * F + kin.J_R(point.body).T * T
+        tau += matmul(kin.J_P(point).T, F) + matmul(kin.J_R(point.body).T, T)
     return tau

@@ -2,6 +2,8 @@
 from .joints import Fixed, Joint, Placement, Prismatic, Revolute
 from .loads import Actuator, Damper, Force, Point, Spring, Torque
 from .system import Body, Frame, System
+from .urdf import from_pinocchio, from_urdf, pinocchio_configuration
 
 __all__ = ["Actuator", "Body", "Damper", "Fixed", "Force", "Frame", "Joint", "Placement", "Point",
-           "Prismatic", "Revolute", "Spring", "System", "Torque"]
+           "Prismatic", "Revolute", "Spring", "System", "Torque", "from_pinocchio", "from_urdf",
+           "pinocchio_configuration"]

@@ -87,11 +87,12 @@ def skew(a: sp.Matrix) -> sp.Matrix:
 
 
 class Joint:
-    """A joint between a parent body and its child; `name` (str or Symbol) is also its coordinate q."""
+    """A joint between a parent body and its child; `name` (str or Symbol) is also its coordinate q.
+    `armature` is the rotor inertia seen at the joint (Pinocchio's armature): it adds to M_ii only."""
 
     dof = 1
 
-    def __init__(self, name, axis=(0, 0, 1), *, actuated: bool = True) -> None:
+    def __init__(self, name, axis=(0, 0, 1), *, actuated: bool = True, armature=0) -> None:
         if isinstance(name, sp.Symbol):
             self.name, self.q = name.name, name
         elif isinstance(name, str) and name.strip():
@@ -100,6 +101,9 @@ class Joint:
             raise ModelError(f"joint name must be a non-empty string or a sympy Symbol, got {name!r}")
         self.axis = unit_axis(axis, self.name)
         self.actuated = actuated
+        self.armature = sp.sympify(armature)  # rotor inertia reflected to the joint: adds to M_ii
+        if self.armature.is_negative:
+            raise ModelError(f"joint '{self.name}': armature must be non-negative, got {self.armature}")
 
     def motion(self) -> tuple[sp.Matrix, sp.Matrix]:
         """(R_j, t_j): the child frame in the joint frame as a function of q."""
@@ -129,7 +133,7 @@ class Fixed(Joint):
     dof = 0
 
     def __init__(self, name: str = "fixed") -> None:
-        self.name, self.q, self.axis, self.actuated = str(name), None, None, False
+        self.name, self.q, self.axis, self.actuated, self.armature = str(name), None, None, False, sp.Integer(0)
 
     def motion(self):
         return sp.eye(3), sp.zeros(3, 1)

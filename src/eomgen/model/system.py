@@ -88,7 +88,7 @@ class System:
         for b in self.bodies:
             exprs += [b.mass, *b.com, *b.inertia, *b.placement.rotation, *b.placement.translation]
             if b.joint.axis is not None:
-                exprs += list(b.joint.axis)
+                exprs += [*b.joint.axis, b.joint.armature]
         for f in self.frames.values():
             exprs += [*f.placement.rotation, *f.placement.translation]
         for load in self.loads:

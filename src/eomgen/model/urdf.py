@@ -1,0 +1,126 @@
+"""URDF import through Pinocchio's parser: the same joint order, q layout and merged fixed links as
+`pinocchio.buildModelFromUrdf`, converted into a `System` with numeric parameters."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+
+from ..errors import ModelError
+from .joints import Fixed, Placement, Prismatic, Revolute
+from .system import System
+
+_AXES = {"X": (1, 0, 0), "Y": (0, 1, 0), "Z": (0, 0, 1)}
+
+
+def number(x: float) -> sp.Expr:
+    """A URDF number as sympy: exact 0 and ±1 where the float is within 1e-14 of them, else the
+    float's exact binary value as a Rational (sympy multiplies Rationals several times faster than
+    Floats; code generation prints them back as the nearest float)."""
+    x = float(x)
+    for exact in (0, 1, -1):
+        if abs(x - exact) < 1e-14:
+            return sp.Integer(exact)
+    return sp.Rational(x)
+
+
+def _matrix(a) -> list:
+    return [[number(x) for x in row] for row in np.atleast_2d(np.asarray(a, float))]
+
+
+def _joint(jmodel, name: str, armature: float):
+    """(eomgen joint, continuous) for one Pinocchio joint model; a clear error for the others."""
+    kind = jmodel.shortname()
+    rest = kind.removeprefix("JointModel")
+    if rest in ("RX", "RY", "RZ", "RUBX", "RUBY", "RUBZ"):
+        return Revolute(name, axis=_AXES[rest[-1]], armature=armature), rest.startswith("RUB")
+    if rest in ("RevoluteUnaligned", "RevoluteUnboundedUnaligned"):
+        axis = tuple(number(x) for x in jmodel.extract().axis)
+        return Revolute(name, axis=axis, armature=armature), rest == "RevoluteUnboundedUnaligned"
+    if rest in ("PX", "PY", "PZ"):
+        return Prismatic(name, axis=_AXES[rest[-1]], armature=armature), False
+    if rest == "PrismaticUnaligned":
+        return Prismatic(name, axis=tuple(number(x) for x in jmodel.extract().axis), armature=armature), False
+    raise ModelError(f"joint '{name}': unsupported joint type {kind} (eomgen models revolute, continuous, "
+                     "prismatic and fixed joints)")
+
+
+def parse_urdf(path, floating_base: bool = False, srdf=None):
+    """The Pinocchio model of a URDF file (armature from the SRDF's rotor parameters, if given)."""
+    import pinocchio as pin
+
+    path = Path(path)
+    if not path.is_file():
+        raise ModelError(f"URDF file not found: {path}")
+    if floating_base:
+        raise ModelError(f"{path.name}: floating_base=True is not supported yet (fixed-base robots only)")
+    try:
+        model = pin.buildModelFromUrdf(str(path))
+    except Exception as exc:  # Pinocchio raises ValueError / RuntimeError with the parser's message
+        raise ModelError(f"cannot read URDF {path}: {exc}") from None
+    if srdf is not None:
+        srdf = Path(srdf)
+        if not srdf.is_file():
+            raise ModelError(f"SRDF file not found: {srdf}")
+        try:
+            pin.loadRotorParameters(model, str(srdf), False)
+        except Exception as exc:
+            raise ModelError(f"cannot read rotor parameters from SRDF {srdf}: {exc}") from None
+        model.armature = np.multiply(model.rotorInertia, np.square(model.rotorGearRatio))
+    return model
+
+
+def from_pinocchio(model, gravity=None) -> System:
+    """A `System` equal to a Pinocchio model of revolute, continuous and prismatic joints."""
+    import pinocchio as pin
+
+    system = System(gravity=tuple(number(x) for x in (model.gravity.linear if gravity is None else gravity)))
+    frames = list(model.frames)
+    body_frame = {}  # joint index -> name of the link it moves
+    for f in frames:
+        if f.type == pin.FrameType.BODY and f.parentJoint not in body_frame:
+            body_frame[f.parentJoint] = f.name
+    root = body_frame.get(0, "world")
+    bodies = {0: system.add_body(root, joint=Fixed(f"{root}_fixed"))}
+    continuous = []
+    for i in range(1, model.njoints):
+        name = model.names[i]
+        joint, is_continuous = _joint(model.joints[i], name, float(model.armature[model.joints[i].idx_v]))
+        inertia = model.inertias[i]
+        M = model.jointPlacements[i]
+        body_name = body_frame.get(i, f"{name}_body")
+        bodies[i] = system.add_body(body_name, parent=bodies[model.parents[i]], joint=joint,
+                                    mass=number(inertia.mass), com=[number(x) for x in inertia.lever],
+                                    inertia=_matrix(inertia.inertia),
+                                    placement=Placement(rotation=_matrix(M.rotation),
+                                                        translation=[number(x) for x in M.translation]))
+        continuous.append(is_continuous)
+    taken = {b.name for b in system.bodies}
+    for f in frames:
+        if f.name in taken or f.name == "universe":
+            continue
+        taken.add(f.name)
+        system.add_frame(f.name, bodies[f.parentJoint],
+                         Placement(rotation=_matrix(f.placement.rotation),
+                                   translation=[number(x) for x in f.placement.translation]))
+    system.pinocchio_model = model
+    system.continuous = continuous
+    return system
+
+
+def from_urdf(path, floating_base: bool = False, srdf=None) -> System:
+    """Import a URDF file (fixed base) with numeric parameters; frames are the URDF links and fixed
+    joints by name. Armature comes from the SRDF's rotor parameters when `srdf` is given."""
+    system = from_pinocchio(parse_urdf(path, floating_base, srdf))
+    system.source = str(path)
+    return system
+
+
+def pinocchio_configuration(system: System, q) -> np.ndarray:
+    """Pinocchio's q from eomgen's: a continuous joint's angle θ becomes (cos θ, sin θ)."""
+    q = np.asarray(q, float)
+    parts = []
+    for k, is_continuous in enumerate(getattr(system, "continuous", [False] * system.nq)):
+        parts.append([np.cos(q[..., k]), np.sin(q[..., k])] if is_continuous else [q[..., k]])
+    return np.stack([x for part in parts for x in part], axis=-1)
