@@ -5,8 +5,8 @@ from .eom import EquationsOfMotion
 from .errors import ModelError
 from .kinematics import Kinematics
 from .methods import derive
-from .model import Fixed, Placement, Prismatic, Revolute, System
+from .model import Fixed, Placement, Prismatic, Revolute, System, from_urdf, robots
 
 __all__ = ["EquationsOfMotion", "Fixed", "Kinematics", "ModelError", "Placement", "Prismatic",
-           "Revolute", "System", "codegen", "derive"]
+           "Revolute", "System", "codegen", "derive", "from_urdf", "robots"]
 __version__ = "0.1.0"

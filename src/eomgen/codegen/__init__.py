@@ -11,6 +11,9 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from .numpy_backend import FunctionWriter, compile_function
+from .runtime import runtime_namespace
+
+_call = runtime_namespace()["_call"]
 
 BACKENDS = ("numpy",)
 
@@ -22,8 +25,7 @@ class Generated:
     source: str
     shape: tuple
     ops: int
-    single: Callable  # math on Python floats, one state
-    batched: Callable  # numpy, states along the last axis
+    function: Callable
 
     def params_used(self) -> set[int]:
         return {int(k) for k in re.findall(r"\b_p(\d+) =", self.source)}
@@ -61,8 +63,7 @@ class NumericEoM:
         """The generated function `key`, written on first request."""
         if key not in self.functions:
             source, shape, ops = self._writer.source("f", build(), symmetric)
-            self.functions[key] = Generated(source, shape, ops, compile_function(source, "f", False),
-                                            compile_function(source, "f", True))
+            self.functions[key] = Generated(source, shape, ops, compile_function(source, key))
         return self.functions[key]
 
     def _p(self, params: Mapping | None, key: str) -> list[float]:
@@ -74,27 +75,10 @@ class NumericEoM:
             raise ModelError(f"values missing for the parameters {missing}")
         return [float(by_name.get(str(s), np.nan)) for s in self.params]
 
-    def _state(self, x, name: str, batch: tuple | None) -> np.ndarray:
-        if x is None:
-            return np.zeros((batch or ()) + (self.nq,))
-        x = np.asarray(x, dtype=float)
-        if x.ndim not in (1, 2) or x.shape[-1] != self.nq or (batch is not None and x.shape[:-1] != batch):
-            want = f"({self.nq},) or (N, {self.nq})" if batch is None else str(batch + (self.nq,))
-            raise ValueError(f"{name}: expected shape {want}, got {x.shape}")
-        if not np.all(np.isfinite(x)):
-            raise ValueError(f"{name}: contains NaN or infinite values")
-        return x
-
     def call(self, key: str, q, u=None, ud=None, params=None) -> np.ndarray:
         """Evaluate generated function `key` at q, u, u̇ (one state, or N states along axis 0)."""
         f = self.functions[key]
-        q = self._state(q, "q", None)
-        batch = q.shape[:-1]
-        u, ud, p = self._state(u, "u", batch), self._state(ud, "ud", batch), self._p(params, key)
-        if not batch:
-            return f.single(q.tolist(), u.tolist(), ud.tolist(), p, np.zeros(f.shape))
-        out = f.batched(q.T, u.T, ud.T, p, np.zeros(f.shape + batch))
-        return np.moveaxis(out, (0, 1), (-2, -1))
+        return _call(f.function, f.shape, self.nq, q, u, ud, self._p(params, key))
 
     def M(self, q, params=None) -> np.ndarray:
         return self.call("M", q, params=params)

@@ -1,22 +1,17 @@
 """Python/NumPy source for the equations of motion.
 
-A generated function `f(q, u, ud, p, out)` evaluates, in order, the intermediates its outputs need
-and writes the outputs into `out` (shape (rows, cols) + batch). The same text runs with `math`
-(one state, Python floats: fast per call) and with `numpy` (states along the last axis: batched).
+A generated function `f(q, u, ud, p, out, sin, cos, sqrt)` evaluates, in order, the intermediates its
+outputs need and writes the outputs into `out` (shape (rows, cols) + batch). The same function runs
+with math's sin, cos, sqrt (one state, Python floats: fast per call) and numpy's (states along the
+last axis: batched).
 
 Generated names are ours (_q0, _u0, _ud0, _p0, _x0, ...): no text of the model (body, joint or
 symbol names) is ever printed into the source, so running it can do nothing but arithmetic."""
 from __future__ import annotations
 
-import math
-
-import numpy as np
 import sympy as sp
 
 from ..subexpressions import Subexpressions
-
-FUNCTIONS = ("sin", "cos", "sqrt")
-
 
 class Printer:
     """A small printer for the expressions eomgen builds (sums, products, powers, sin, cos, sqrt),
@@ -86,7 +81,7 @@ class FunctionWriter:
         return self._lines[s]
 
     def source(self, name: str, outputs: sp.Basic, symmetric: bool = False) -> tuple[str, tuple, int]:
-        """(source of `def name(q, u, ud, p, out)`, output shape, operation count). With `symmetric`
+        """(source of `def name(q, u, ud, p, out, sin, cos, sqrt)`, output shape, operation count). With `symmetric`
         only the upper triangle is computed and mirrored."""
         for k, s in enumerate(self.sub.definitions):  # intermediates added since the last call
             self.printer.names.setdefault(s, f"_x{k}")
@@ -97,7 +92,7 @@ class FunctionWriter:
         needed = self.sub.dependencies(exprs)
         used = set().union(*(self.sub.definitions[s].free_symbols for s in needed),
                            *(e.free_symbols for e in exprs))
-        lines = [f"def {name}(q, u, ud, p, out):"]
+        lines = [f"def {name}(q, u, ud, p, out, sin, cos, sqrt):"]
         for arg, symbols in self.inputs.items():
             lines += [f"    _{arg}{k} = {arg}[{k}]" for k, s in enumerate(symbols) if s in used]
         ops = 0
@@ -116,8 +111,8 @@ class FunctionWriter:
         return "\n".join(lines) + "\n", (rows, cols), ops
 
 
-def compile_function(source: str, name: str, batched: bool):
-    """The function defined by `source`, with sin, cos, sqrt from math (one state) or numpy."""
-    namespace = {f: getattr(np if batched else math, f) for f in FUNCTIONS}
-    exec(compile(source, f"<eomgen {name}>", "exec"), namespace)  # our own generated arithmetic only
+def compile_function(source: str, label: str, name: str = "f"):
+    """The function `name` defined by `source` (our own generated arithmetic, nothing else)."""
+    namespace: dict = {}
+    exec(compile(source, f"<eomgen {label}>", "exec"), namespace)
     return namespace[name]

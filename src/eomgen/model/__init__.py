@@ -2,6 +2,7 @@
 from .joints import Fixed, Joint, Placement, Prismatic, Revolute
 from .loads import Actuator, Damper, Force, Point, Spring, Torque
 from .system import Body, Frame, System
+from . import robots
 from .urdf import from_pinocchio, from_urdf, pinocchio_configuration
 
 __all__ = ["Actuator", "Body", "Damper", "Fixed", "Force", "Frame", "Joint", "Placement", "Point",

@@ -86,7 +86,7 @@ def from_pinocchio(model, gravity=None) -> System:
     continuous = []
     for i in range(1, model.njoints):
         name = model.names[i]
-        joint, is_continuous = _joint(model.joints[i], name, float(model.armature[model.joints[i].idx_v]))
+        joint, is_continuous = _joint(model.joints[i], name, number(model.armature[model.joints[i].idx_v]))
         inertia = model.inertias[i]
         M = model.jointPlacements[i]
         body_name = body_frame.get(i, f"{name}_body")
