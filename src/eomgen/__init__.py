@@ -1,6 +1,8 @@
 """eomgen: symbolic equations of motion of multibody systems, M(q) u̇ + b(q, u) + g(q) = τ + Sᵀ τ_a,
 derived by several methods and turned into verified numeric code."""
-from .codegen import codegen
+__version__ = "0.1.0"
+
+from .codegen import codegen, write_module
 from .eom import EquationsOfMotion
 from .errors import ModelError
 from .kinematics import Kinematics
@@ -8,5 +10,4 @@ from .methods import derive
 from .model import Fixed, Placement, Prismatic, Revolute, System, from_urdf, robots
 
 __all__ = ["EquationsOfMotion", "Fixed", "Kinematics", "ModelError", "Placement", "Prismatic",
-           "Revolute", "System", "codegen", "derive", "from_urdf", "robots"]
-__version__ = "0.1.0"
+           "Revolute", "System", "codegen", "derive", "from_urdf", "robots", "write_module"]

@@ -153,3 +153,6 @@ def codegen(eom: EquationsOfMotion, backend: str = "numpy") -> NumericEoM:
     if backend not in BACKENDS:
         raise ModelError(f"unknown backend {backend!r}; available: {list(BACKENDS)}")
     return NumericEoM(eom)
+
+
+from .module import module_source, write_module  # noqa: E402  (module builds on NumericEoM)

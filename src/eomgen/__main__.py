@@ -1,0 +1,55 @@
+"""Command line: `eomgen verify NAME_OR_URDF`, `eomgen generate NAME_OR_URDF -o FILE`."""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from .codegen import write_module
+from .errors import ModelError
+from .methods import METHODS, derive
+from .model import System, from_urdf, robots
+
+
+def load(name_or_urdf: str) -> System:
+    """A robot of example-robot-data by name, or a URDF file by path."""
+    if name_or_urdf in robots.ROBOTS:
+        return robots.load(name_or_urdf)
+    if name_or_urdf.endswith(".urdf") or Path(name_or_urdf).exists():
+        return from_urdf(name_or_urdf)
+    raise ModelError(f"{name_or_urdf!r} is neither a robot name ({', '.join(robots.names())}) nor a URDF file")
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="eomgen", description="Equations of motion: derive, generate, verify.")
+    sub = ap.add_subparsers(dest="command", required=True)
+    v = sub.add_parser("verify", help="derive, generate and compare with Pinocchio")
+    v.add_argument("robot", help="example-robot-data name (e.g. ur5) or URDF path")
+    v.add_argument("--method", default="projected_newton_euler", choices=sorted(METHODS))
+    v.add_argument("--states", type=int, default=20)
+    v.add_argument("--frames", nargs="*", help="frames whose Jacobians to check (default: the end frames)")
+    gen = sub.add_parser("generate", help="write a numpy-only Python module")
+    gen.add_argument("robot", help="example-robot-data name or URDF path")
+    gen.add_argument("-o", "--output", required=True, help="the .py file to write")
+    gen.add_argument("--method", default="projected_newton_euler", choices=sorted(METHODS))
+    args = ap.parse_args(argv)
+    try:
+        system = load(args.robot)
+        if args.command == "verify":
+            from .verify import verify
+
+            report = verify(system, method=args.method, states=args.states, frames=args.frames)
+            print(report)
+            return 0 if report.ok() else 1
+        t0 = time.perf_counter()
+        path = write_module(derive(system, method=args.method), args.output)
+        print(f"wrote {path} ({system.nq} coordinates) in {time.perf_counter() - t0:.2f} s")
+        return 0
+    except ModelError as exc:
+        print(f"eomgen: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,144 @@
+"""Comparison with Pinocchio: M, b, g, frame Jacobians and J̇u at random states.
+
+The reference is the Pinocchio model the system was imported from (URDF), or else one built from the
+system with Pinocchio's own API (addJoint, appendBodyToJoint, addFrame)."""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .codegen import codegen
+from .errors import ModelError
+from .methods import derive
+from .model import Prismatic, Revolute, System
+from .model.urdf import pinocchio_configuration
+
+
+def to_pinocchio(system: System):
+    """A Pinocchio model of a numeric system (revolute and prismatic joints on any axis, fixed bodies
+    merged into their moving ancestor, bodies and frames as frames)."""
+    import pinocchio as pin
+
+    def arr(m):
+        try:
+            return np.array(m.tolist(), dtype=float)
+        except TypeError:
+            raise ModelError("verification against Pinocchio needs numeric parameters; "
+                             f"symbols left: {sorted(map(str, system.parameters))}") from None
+
+    model = pin.Model()
+    model.gravity.linear = arr(system.gravity).ravel()
+    where = {}  # body -> (Pinocchio joint id, SE3 of the body frame in that joint's frame)
+    for body in system.bodies:
+        jid, M_parent = where[body.parent] if body.parent else (0, pin.SE3.Identity())
+        M = M_parent * pin.SE3(arr(body.placement.rotation), arr(body.placement.translation).ravel())
+        if body.index is not None:
+            axis = arr(body.joint.axis).ravel()
+            kind = "R" if isinstance(body.joint, Revolute) else "P"
+            principal = {(1.0, 0.0, 0.0): "X", (0.0, 1.0, 0.0): "Y", (0.0, 0.0, 1.0): "Z"}.get(tuple(axis))
+            joint = (getattr(pin, f"JointModel{kind}{principal}")() if principal else
+                     (pin.JointModelRevoluteUnaligned if kind == "R" else pin.JointModelPrismaticUnaligned)(axis))
+            jid = model.addJoint(jid, joint, M, body.joint.name)
+            model.armature[model.joints[jid].idx_v] = float(body.joint.armature)
+            M = pin.SE3.Identity()
+        model.appendBodyToJoint(jid, pin.Inertia(float(body.mass), arr(body.com).ravel(), arr(body.inertia)), M)
+        model.addFrame(pin.Frame(body.name, jid, M, pin.FrameType.BODY))
+        where[body] = (jid, M)
+    for f in system.frames.values():
+        jid, M = where[f.body]
+        placement = M * pin.SE3(arr(f.placement.rotation), arr(f.placement.translation).ravel())
+        model.addFrame(pin.Frame(f.name, jid, placement, pin.FrameType.OP_FRAME))
+    return model
+
+
+def end_frames(system: System) -> list[str]:
+    """The frames on the leaves of the tree (bodies with no moving descendant), and those bodies."""
+    parents = {b.parent for b in system.bodies}
+    leaves = {b for b in system.bodies if b not in parents}
+    ends = [b.name for b in system.bodies if b in leaves and b.index is not None]
+    ends += [name for name, f in system.frames.items() if f.body in leaves]
+    return ends
+
+
+def random_states(system: System, n: int, rng) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """q (revolute in [−π, π], prismatic in [−0.5, 0.5]), u and u̇ in [−2, 2]."""
+    scale = np.array([np.pi if isinstance(j, Revolute) else 0.5 for j in system.joints])
+    q = rng.uniform(-1, 1, (n, system.nq)) * scale
+    return q, rng.uniform(-2, 2, (n, system.nq)), rng.uniform(-2, 2, (n, system.nq))
+
+
+@dataclass
+class Report:
+    """Maximum absolute and relative error of each quantity over the states (relative to max(1, |ref|))."""
+
+    name: str
+    method: str
+    backend: str
+    nq: int
+    states: int
+    derive_seconds: float
+    codegen_seconds: float
+    errors: dict[str, tuple[float, float]] = field(default_factory=dict)
+
+    def worst(self) -> float:
+        return max(rel for _, rel in self.errors.values())
+
+    def ok(self, tol: float = 1e-10) -> bool:
+        return self.worst() <= tol
+
+    def __str__(self) -> str:
+        lines = [f"{self.name}: nq = {self.nq}, method {self.method}, backend {self.backend}, "
+                 f"{self.states} random states",
+                 f"derivation {self.derive_seconds:.2f} s, code generation {self.codegen_seconds:.2f} s",
+                 f"{'quantity':40s} {'max abs error':>14s} {'max rel error':>14s}"]
+        lines += [f"{k:40s} {a:14.2e} {r:14.2e}" for k, (a, r) in self.errors.items()]
+        lines.append(f"worst relative error {self.worst():.2e}: {'OK' if self.ok() else 'FAILED'} (tolerance 1e-10)")
+        return "\n".join(lines)
+
+
+def verify(system: System, method: str = "projected_newton_euler", backend: str = "numpy", states: int = 20,
+           frames: list[str] | None = None, seed: int = 0) -> Report:
+    """Derive, generate and compare M, b, g and the Jacobians and J̇u of `frames` (default: the end
+    frames) with Pinocchio at `states` random states."""
+    import pinocchio as pin
+
+    model = getattr(system, "pinocchio_model", None) or to_pinocchio(system)
+    data = model.createData()
+    t0 = time.perf_counter()
+    eom = derive(system, method=method)
+    t1 = time.perf_counter()
+    f = codegen(eom, backend=backend)
+    frames = end_frames(system) if frames is None else frames
+    for name in frames:
+        f.jacobian(name, np.zeros(system.nq))  # generate
+    t2 = time.perf_counter()
+    report = Report(getattr(system, "name", None) or getattr(system, "source", "system"), method, backend,
+                    system.nq, states, t1 - t0, t2 - t1)
+    q, u, _ = random_states(system, states, np.random.default_rng(seed))
+    LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+    def record(key, ours, ref):
+        a = float(np.abs(ours - ref).max())
+        r = a / max(1.0, float(np.abs(ref).max()))
+        old = report.errors.get(key, (0.0, 0.0))
+        report.errors[key] = (max(old[0], a), max(old[1], r))
+
+    for qk, uk in zip(q, u):
+        qp = pinocchio_configuration(system, qk)
+        M = pin.crba(model, data, qp)
+        g = pin.computeGeneralizedGravity(model, data, qp)
+        record("M", f.M(qk), np.triu(M) + np.triu(M, 1).T)
+        record("g", f.g(qk), g)
+        record("b", f.b(qk, uk), pin.nonLinearEffects(model, data, qp, uk) - g)
+        pin.computeJointJacobiansTimeVariation(model, data, qp, uk)
+        pin.updateFramePlacements(model, data)
+        for name in frames:
+            if not model.existFrame(name):
+                raise ModelError(f"frame {name!r} is not in the Pinocchio model")
+            fid = model.getFrameId(name)
+            record(f"J {name}", f.jacobian(name, qk), pin.getFrameJacobian(model, data, fid, LWA))
+            record(f"Jdot_u {name}", f.jacobian_dot_u(name, qk, uk),
+                   pin.getFrameJacobianTimeVariation(model, data, fid, LWA) @ uk)
+    return report
