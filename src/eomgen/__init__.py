@@ -8,6 +8,7 @@ from .errors import ModelError
 from .kinematics import Kinematics
 from .methods import derive
 from .model import Fixed, Placement, Prismatic, Revolute, System, from_urdf, robots
+from .verify import verify
 
 __all__ = ["EquationsOfMotion", "Fixed", "Kinematics", "ModelError", "Placement", "Prismatic",
-           "Revolute", "System", "codegen", "derive", "from_urdf", "robots", "write_module"]
+           "Revolute", "System", "codegen", "derive", "from_urdf", "robots", "verify", "write_module"]

@@ -1,4 +1,5 @@
-"""The robots of example-robot-data by the names of its loaders.
+"""The robots of example-robot-data by the names of its loaders (and, for the files that came after
+the loaders, pr2, so100, so101, tiago_pro and xarm7, by their file names).
 
 example-robot-data 6 ships only model files (no Python module); they sit in the package's
 `cmeel.prefix/share/example-robot-data/robots` folder."""
@@ -36,9 +37,12 @@ ROBOTS: dict[str, tuple[str, str | None, bool]] = {
     "kinova": ("kinova_description/robots/kinova.urdf", None, False),
     "laikago": ("laikago_description/urdf/laikago.urdf", None, True),
     "panda": ("panda_description/urdf/panda.urdf", None, False),
+    "pr2": ("pr2_description/urdf/pr2.urdf", None, False),
     "romeo": ("romeo_description/urdf/romeo.urdf", None, True),
     "simple_humanoid": ("simple_humanoid_description/urdf/simple_humanoid.urdf", None, True),
     "simple_humanoid_classical": ("simple_humanoid_description/urdf/simple_humanoid_classical.urdf", None, True),
+    "so100": ("so_arm_description/urdf/so100.urdf", None, False),
+    "so101": ("so_arm_description/urdf/so101.urdf", None, False),
     "solo8": ("solo_description/robots/solo.urdf", None, True),
     "solo12": ("solo_description/robots/solo12.urdf", None, True),
     "talos": ("talos_data/robots/talos_reduced.urdf", "talos_data/srdf/talos.srdf", True),
@@ -49,6 +53,7 @@ ROBOTS: dict[str, tuple[str, str | None, bool]] = {
     "tiago": ("tiago_description/robots/tiago.urdf", None, False),
     "tiago_dual": ("tiago_description/robots/tiago_dual.urdf", None, False),
     "tiago_no_hand": ("tiago_description/robots/tiago_no_hand.urdf", None, False),
+    "tiago_pro": ("tiago_pro_description/robots/tiago_pro.urdf", None, False),
     "ur3": ("ur_description/urdf/ur3_robot.urdf", None, False),
     "ur3_gripper": ("ur_description/urdf/ur3_gripper.urdf", None, False),
     "ur3_limited": ("ur_description/urdf/ur3_joint_limited_robot.urdf", None, False),
@@ -57,6 +62,7 @@ ROBOTS: dict[str, tuple[str, str | None, bool]] = {
     "ur5_limited": ("ur_description/urdf/ur5_joint_limited_robot.urdf", None, False),
     "ur10": ("ur_description/urdf/ur10_robot.urdf", None, False),
     "ur10_limited": ("ur_description/urdf/ur10_joint_limited_robot.urdf", None, False),
+    "xarm7": ("xarm_description/urdf/xarm7.urdf", None, False),
     "z1": ("z1_description/urdf/z1.urdf", None, False),
 }
 

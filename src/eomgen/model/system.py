@@ -3,6 +3,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import warnings
+
 import numpy as np
 import sympy as sp
 
@@ -43,8 +45,11 @@ class Frame:
 class System:
     """Rigid bodies connected by joints in a tree rooted at the (inertial) world."""
 
-    def __init__(self, gravity=(0, 0, -9.81)) -> None:
+    def __init__(self, gravity=(0, 0, -9.81), *, strict: bool = True) -> None:
+        """`strict=False` turns physically impossible inertias into warnings (for imported files
+        that Pinocchio accepts as they are)."""
         self.gravity = vector3(gravity, "gravity")
+        self.strict = strict
         self.bodies: list[Body] = []
         self.frames: dict[str, Frame] = {}
         self.loads: list = []
@@ -134,7 +139,7 @@ class System:
             raise ModelError(f"body '{name}': mass must be non-negative, got {mass}")
         com = vector3(com, f"body '{name}': com")
         inertia = matrix3(sp.zeros(3) if inertia is None else inertia, f"body '{name}': inertia")
-        check_inertia(inertia, f"body '{name}'")
+        check_inertia(inertia, f"body '{name}'", self.strict)
         inertia = (inertia + inertia.T) / 2  # exact for symmetric input, removes float round-off
         placement = Placement() if placement is None else placement
         if not isinstance(placement, Placement):
@@ -239,9 +244,9 @@ def _nonnegative(value, what: str) -> sp.Expr:
     return value
 
 
-def check_inertia(I: sp.Matrix, owner: str) -> None:
+def check_inertia(I: sp.Matrix, owner: str, strict: bool = True) -> None:
     """Symmetric; when numeric: positive semidefinite and principal moments obeying the triangle
-    inequality (λ_i ≤ λ_j + λ_k)."""
+    inequality (λ_i ≤ λ_j + λ_k). Not strict: the last two only warn."""
     if not is_numeric(I):
         if any(sp.expand(I[i, j] - I[j, i]) != 0 for i in range(3) for j in range(i)):
             raise ModelError(f"{owner}: inertia must be symmetric, got {I.tolist()}")
@@ -251,8 +256,13 @@ def check_inertia(I: sp.Matrix, owner: str) -> None:
     if np.abs(A - A.T).max() > tol:
         raise ModelError(f"{owner}: inertia must be symmetric, got {I.tolist()}")
     lam = np.linalg.eigvalsh(A)
+    problem = None
     if lam.min() < -tol:
-        raise ModelError(f"{owner}: inertia must be positive semidefinite, eigenvalues {lam.tolist()}")
-    if lam[2] > lam[0] + lam[1] + tol:
-        raise ModelError(f"{owner}: principal moments {lam.tolist()} break the triangle inequality "
-                         "(largest ≤ sum of the other two)")
+        problem = f"{owner}: inertia must be positive semidefinite, eigenvalues {lam.tolist()}"
+    elif lam[2] > lam[0] + lam[1] + tol:
+        problem = (f"{owner}: principal moments {lam.tolist()} break the triangle inequality "
+                   "(largest ≤ sum of the other two)")
+    if problem and strict:
+        raise ModelError(problem)
+    if problem:
+        warnings.warn(problem, stacklevel=3)

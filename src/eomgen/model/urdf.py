@@ -71,11 +71,13 @@ def parse_urdf(path, floating_base: bool = False, srdf=None):
     return model
 
 
-def from_pinocchio(model, gravity=None) -> System:
-    """A `System` equal to a Pinocchio model of revolute, continuous and prismatic joints."""
+def from_pinocchio(model, gravity=None, strict: bool = True) -> System:
+    """A `System` equal to a Pinocchio model of revolute, continuous and prismatic joints
+    (`strict=False`: impossible inertias warn instead of raising)."""
     import pinocchio as pin
 
-    system = System(gravity=tuple(number(x) for x in (model.gravity.linear if gravity is None else gravity)))
+    system = System(gravity=tuple(number(x) for x in (model.gravity.linear if gravity is None else gravity)),
+                    strict=strict)
     frames = list(model.frames)
     body_frame = {}  # joint index -> name of the link it moves
     for f in frames:
@@ -109,10 +111,11 @@ def from_pinocchio(model, gravity=None) -> System:
     return system
 
 
-def from_urdf(path, floating_base: bool = False, srdf=None) -> System:
+def from_urdf(path, floating_base: bool = False, srdf=None, strict: bool = True) -> System:
     """Import a URDF file (fixed base) with numeric parameters; frames are the URDF links and fixed
-    joints by name. Armature comes from the SRDF's rotor parameters when `srdf` is given."""
-    system = from_pinocchio(parse_urdf(path, floating_base, srdf))
+    joints by name. Armature comes from the SRDF's rotor parameters when `srdf` is given. With
+    `strict=False` an inertia that is not physically possible is a warning, not an error."""
+    system = from_pinocchio(parse_urdf(path, floating_base, srdf), strict=strict)
     system.source = str(path)
     return system
 
