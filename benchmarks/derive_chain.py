@@ -1,5 +1,5 @@
-"""Derivation time of M, b, g for an n-link spatial chain: eomgen's three methods (projected
-Newton-Euler, Lagrange II, free cut) beside sympy.physics.mechanics.
+"""Derivation time of M, b, g for an n-link spatial chain: eomgen's methods (projected Newton-Euler,
+Lagrange II, free cut, body-frame recursions) beside sympy.physics.mechanics.
 
 The chain: link i turns about its parent's z (i even) or y (i odd) axis (relative angles, as in a
 robot), sits at distance L_(i−1) along the parent's x axis, has its centre of mass at L_i/2 along its
@@ -147,14 +147,15 @@ def main() -> None:
     ctx = mp.get_context("fork")
     alive = {"KanesMethod": True, "LagrangesMethod": True}
     rows = []
-    header = (f"{'n':>3} {'PNE [s]':>8} {'Lag [s]':>8} {'cut [s]':>8} {'gen [s]':>8} {'Kane [s]':>9} "
+    header = (f"{'n':>3} {'PNE [s]':>8} {'Lag [s]':>8} {'cut [s]':>8} {'rec [s]':>8} {'gen [s]':>8} {'Kane [s]':>9} "
               f"{'LagM [s]':>9} {'Kane/PNE':>9} {'LagM/Lag':>9} {'max rel diff':>13}")
     print(header, flush=True)
     for n in range(1, args.max_n + 1):
         state = random_state(n, rng)
         row = {"n": n}
         ref = None
-        for method, key in (("projected_newton_euler", "pne"), ("lagrange", "lagrange"), ("free_cut", "free_cut")):
+        for method, key in (("projected_newton_euler", "pne"), ("lagrange", "lagrange"), ("free_cut", "free_cut"),
+                            ("recursive", "recursive")):
             t, tg, M, bg = run_eomgen(method, n, state)
             row[key], row[f"{key}_codegen"] = t, tg
             ref = (M, bg) if ref is None else ref
@@ -178,7 +179,8 @@ def main() -> None:
         row["kane_over_pne"] = row["kane"] / row["pne"] if row["kane"] else None
         row["sympy_lagrange_over_lagrange"] = row["sympy_lagrange"] / row["lagrange"] if row["sympy_lagrange"] else None
         rows.append(row)
-        print(f"{n:>3} {row['pne']:>8.2f} {row['lagrange']:>8.2f} {row['free_cut']:>8.2f} {row['pne_codegen']:>8.2f} "
+        print(f"{n:>3} {row['pne']:>8.2f} {row['lagrange']:>8.2f} {row['free_cut']:>8.2f} {row['recursive']:>8.2f} "
+              f"{row['pne_codegen']:>8.2f} "
               f"{_f(row['kane']):>9} "
               f"{_f(row['sympy_lagrange']):>9} {_f(row['kane_over_pne'], 'x'):>9} "
               f"{_f(row['sympy_lagrange_over_lagrange'], 'x'):>9} {row['max_rel_diff']:>13.1e}", flush=True)

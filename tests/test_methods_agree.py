@@ -11,6 +11,17 @@ def _both(system):
     return [eg.derive(system, method=m) for m in ("projected_newton_euler", "lagrange")]
 
 
+@pytest.mark.parametrize("build", [double_pendulum, spatial_arm_3dof])
+def test_recursive_symbolic(build):
+    """The body-frame recursions against projected Newton-Euler, symbolically (skew axes, a prismatic
+    joint, full inertias)."""
+    system = build()
+    ne, other = eg.derive(system), eg.derive(system, method="recursive")
+    q = list(system.q)
+    for name in ("M", "b", "g"):
+        assert matrices_trig_equal(getattr(ne, name), getattr(other, name), q), name
+
+
 def test_double_pendulum_symbolic():
     system = double_pendulum()
     ne, la = _both(system)

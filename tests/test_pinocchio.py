@@ -26,7 +26,7 @@ def pinocchio_model(system, spec):
     return model, ids
 
 
-@pytest.mark.parametrize("method", ["projected_newton_euler", "lagrange"])
+@pytest.mark.parametrize("method", ["projected_newton_euler", "lagrange", "recursive"])
 @pytest.mark.parametrize("branch_at", [None, 1])
 def test_against_pinocchio(method, branch_at):
     rng = np.random.default_rng(7 if branch_at is None else 8)

@@ -35,8 +35,8 @@ def test_projected_newton_euler_equals_pinocchio(name):
     assert report.ok(1e-10), str(report)
 
 
-@pytest.mark.parametrize("method", ["lagrange", "free_cut"])
-@pytest.mark.parametrize("name", ["ur5", "panda"])
+@pytest.mark.parametrize("method,name", [(m, r) for m in ("lagrange", "free_cut") for r in ("ur5", "panda")]
+                         + [("recursive", r) for r in ("ur5", "panda", "kinova", "baxter", "talos_arm", "tiago")])
 def test_other_methods_equal_pinocchio(name, method):
     report = verify(eg.robots.load(name), method=method, states=20, seed=2)
     assert report.ok(1e-10), str(report)

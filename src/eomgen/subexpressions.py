@@ -33,6 +33,7 @@ class Subexpressions:
         self.prefix = prefix
         self.definitions: dict[sp.Symbol, sp.Expr] = {}
         self._index: dict[sp.Symbol, int] = {}
+        self._named: dict[sp.Expr, sp.Symbol] = {}
         self._uses: dict[sp.Symbol, tuple] = {}
         self._derivatives: dict[tuple, sp.Expr] = {}
         self._inlined: dict[sp.Symbol, sp.Expr] = {}
@@ -45,10 +46,13 @@ class Subexpressions:
         expr = sp.sympify(expr)
         if is_trivial(expr):
             return expr
+        if expr in self._named:  # the same expression twice: one name
+            return self._named[expr]
         symbol = sp.Symbol(f"{self.prefix}{len(self.definitions)}")  # not Dummy: same model, same order
         self._index[symbol] = len(self.definitions)
         self._uses[symbol] = tuple(s for s in expr.free_symbols if s in self.definitions)
         self.definitions[symbol] = expr
+        self._named[expr] = symbol
         return symbol
 
     def add_matrix(self, matrix: sp.Matrix) -> sp.Matrix:

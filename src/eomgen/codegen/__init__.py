@@ -27,8 +27,8 @@ class Generated:
     ops: int
     function: Callable
 
-    def params_used(self) -> set[int]:
-        return {int(k) for k in re.findall(r"\b_p(\d+) =", self.source)}
+    def __post_init__(self) -> None:
+        self.params_used = {int(k) for k in re.findall(r"\b_p(\d+) =", self.source)}
 
 
 class NumericEoM:
@@ -68,8 +68,10 @@ class NumericEoM:
 
     def _p(self, params: Mapping | None, key: str) -> list[float]:
         """The parameter vector; only the parameters that function `key` uses must be given."""
+        if not self.params:
+            return []
         by_name = {str(k): v for k, v in dict(params or {}).items()}
-        used = self.functions[key].params_used()
+        used = self.functions[key].params_used
         missing = [str(s) for k, s in enumerate(self.params) if k in used and str(s) not in by_name]
         if missing:
             raise ModelError(f"values missing for the parameters {missing}")

@@ -22,11 +22,10 @@ class Printer:
         self.ops = 0
 
     def __call__(self, e: sp.Expr) -> str:
+        if e in self.names:  # symbols, and sin / cos of the inputs computed once up front
+            return self.names[e]
         if e.is_Symbol:
-            try:
-                return self.names[e]
-            except KeyError:
-                raise ValueError(f"symbol without a value: {e}") from None
+            raise ValueError(f"symbol without a value: {e}")
         if e.is_Integer:
             return f"{int(e)}.0" if abs(int(e)) < 2**53 else repr(float(e))
         if e.is_Number:
@@ -70,7 +69,9 @@ class FunctionWriter:
     def __init__(self, sub: Subexpressions, inputs: dict[str, list[sp.Symbol]]) -> None:
         self.sub, self.inputs = sub, inputs
         names = {s: f"_{arg}{k}" for arg, symbols in inputs.items() for k, s in enumerate(symbols)}
-        self.printer = Printer(names)
+        self.trig = {f(s): f"_{f.__name__}_{arg}{k}" for arg, symbols in inputs.items()
+                     for k, s in enumerate(symbols) for f in (sp.sin, sp.cos)}
+        self.printer = Printer({**names, **self.trig})
         self._lines: dict[sp.Symbol, tuple[str, int]] = {}
 
     def _line(self, s: sp.Symbol) -> tuple[str, int]:
@@ -92,10 +93,14 @@ class FunctionWriter:
         needed = self.sub.dependencies(exprs)
         used = set().union(*(self.sub.definitions[s].free_symbols for s in needed),
                            *(e.free_symbols for e in exprs))
+        trig = set().union(*(self.sub.definitions[s].atoms(sp.sin, sp.cos) for s in needed),
+                           *(e.atoms(sp.sin, sp.cos) for e in exprs)) & set(self.trig)
         lines = [f"def {name}(q, u, ud, p, out, sin, cos, sqrt):"]
         for arg, symbols in self.inputs.items():
             lines += [f"    _{arg}{k} = {arg}[{k}]" for k, s in enumerate(symbols) if s in used]
-        ops = 0
+        ops = len(trig)
+        for t in sorted(trig, key=lambda t: self.trig[t]):
+            lines.append(f"    {self.trig[t]} = {type(t).__name__}({self.printer.names[t.args[0]]})")
         for s in needed:
             text, n = self._line(s)
             lines.append(text)

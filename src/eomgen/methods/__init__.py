@@ -5,18 +5,20 @@ from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..kinematics import Kinematics
 from ..model.system import System
-from . import free_cut, lagrange, projected_newton_euler
+from . import free_cut, lagrange, projected_newton_euler, recursive
 
 METHODS = {
     "free_cut": free_cut.derive,
     "projected_newton_euler": projected_newton_euler.derive,
     "lagrange": lagrange.derive,
+    "recursive": recursive.derive,
 }
 
 
 def derive(system: System, method: str = "projected_newton_euler") -> EquationsOfMotion:
     """Equations of motion M u̇ + b + g = τ + Sᵀ τ_a of `system` by `method`
-    ("projected_newton_euler" (default), "lagrange", "free_cut")."""
+    ("projected_newton_euler" (default), "lagrange", "free_cut", or "recursive": the body-frame
+    composite-rigid-body and recursive Newton-Euler algorithms, which give the cheapest code)."""
     if not isinstance(system, System):
         raise TypeError(f"derive expects an eomgen.System, got {type(system).__name__}")
     if method not in METHODS:

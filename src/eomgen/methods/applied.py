@@ -59,3 +59,11 @@ def add_armature(kin: Kinematics, M: sp.Matrix) -> None:
     for body in kin.system.bodies:
         if body.index is not None and body.joint.armature != 0:
             M[body.index, body.index] += body.joint.armature
+
+
+def generalized_force(kin: Kinematics, load) -> sp.Matrix:
+    """τ = Σ J_Pᵀ F + J_Rᵀ T over the forces and torques of one load (action and reaction)."""
+    tau = sp.zeros(kin.n, 1)
+    for point, F, T in applied_wrenches(kin, load):
+        tau += matmul(kin.J_P(point).T, F) + matmul(kin.J_R(point.body).T, T)
+    return tau

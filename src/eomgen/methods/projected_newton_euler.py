@@ -13,7 +13,7 @@ from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
 from ..model.loads import Point
-from .applied import add_armature, applied_wrenches, potential_energy
+from .applied import add_armature, generalized_force, potential_energy
 
 
 def derive(kin: Kinematics) -> EquationsOfMotion:
@@ -42,11 +42,3 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "projected_newton_euler", compact)
-
-
-def generalized_force(kin: Kinematics, load) -> sp.Matrix:
-    """τ = Σ J_Pᵀ F + J_Rᵀ T over the forces and torques of one load (action and reaction)."""
-    tau = sp.zeros(kin.n, 1)
-    for point, F, T in applied_wrenches(kin, load):
-        tau += matmul(kin.J_P(point).T, F) + matmul(kin.J_R(point.body).T, T)
-    return tau

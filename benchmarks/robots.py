@@ -1,0 +1,87 @@
+"""eomgen on the robots of example-robot-data beside Pinocchio, in one run.
+
+Per robot: derivation and code generation time, operations of the generated M, b, g, the per-call
+time of the NumPy backend's M, b, g from Python beside Pinocchio's crba, nonLinearEffects and
+computeGeneralizedGravity from Python, and the batched time for N states beside a Python loop over
+Pinocchio. Prints a table and writes JSON.
+
+Run: python benchmarks/robots.py [names ...] [--method recursive] [--batch 10000] [--out ...]"""
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import time
+import timeit
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+import eomgen as eg
+from eomgen.model.urdf import pinocchio_configuration
+from eomgen.verify import random_states
+
+
+def per_call(fn, number: int = 200, repeat: int = 5) -> float:
+    """Best mean seconds per call over `repeat` runs of `number` calls."""
+    return min(timeit.repeat(fn, number=number, repeat=repeat)) / number
+
+
+def bench(name: str, batch: int, method: str) -> dict:
+    system = eg.robots.load(name)
+    t0 = time.perf_counter()
+    eom = eg.derive(system, method=method)
+    t1 = time.perf_counter()
+    f = eg.codegen(eom)
+    t2 = time.perf_counter()
+    model, rng = system.pinocchio_model, np.random.default_rng(0)
+    data = model.createData()
+    q, u, _ = random_states(system, batch, rng)
+    qp = pinocchio_configuration(system, q)
+    q0, u0, qp0 = q[0], u[0], qp[0]
+    row = {"robot": name, "nq": system.nq, "derive_s": t1 - t0, "codegen_s": t2 - t1,
+           "ops_M": f.ops["M"], "ops_b": f.ops["b"], "ops_g": f.ops["g"]}
+    calls = {"M": (lambda: f.M(q0), lambda: pin.crba(model, data, qp0)),
+             "b": (lambda: f.b(q0, u0), lambda: pin.nonLinearEffects(model, data, qp0, u0)),
+             "g": (lambda: f.g(q0), lambda: pin.computeGeneralizedGravity(model, data, qp0))}
+    for key, (ours, theirs) in calls.items():
+        row[f"{key}_us"], row[f"pin_{key}_us"] = per_call(ours) * 1e6, per_call(theirs) * 1e6
+    t = time.perf_counter()
+    f.M(q), f.b(q, u), f.g(q)
+    row["batch_us_per_state"] = (time.perf_counter() - t) / batch * 1e6
+    t = time.perf_counter()
+    for k in range(batch):
+        pin.crba(model, data, qp[k]), pin.nonLinearEffects(model, data, qp[k], u[k])
+        pin.computeGeneralizedGravity(model, data, qp[k])
+    row["pin_loop_us_per_state"] = (time.perf_counter() - t) / batch * 1e6
+    return row
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("names", nargs="*", default=eg.robots.names(floating_base=False))
+    ap.add_argument("--batch", type=int, default=10_000)
+    ap.add_argument("--method", default="recursive", help="derivation whose code is timed (default: recursive)")
+    ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "robots.json"))
+    args = ap.parse_args()
+    print(f"{'robot':26s} {'nq':>3s} {'derive':>7s} {'gen':>6s} {'ops M':>7s} {'ops b':>7s} {'ops g':>6s} "
+          f"{'M µs':>7s} {'pin':>6s} {'b µs':>7s} {'pin':>6s} {'g µs':>7s} {'pin':>6s} "
+          f"{'batch µs/state':>15s} {'pin loop':>9s} {'speed-up':>8s}")
+    rows = []
+    for name in args.names:
+        r = bench(name, args.batch, args.method)
+        rows.append(r)
+        print(f"{name:26s} {r['nq']:3d} {r['derive_s']:6.2f}s {r['codegen_s']:5.2f}s {r['ops_M']:7d} {r['ops_b']:7d} "
+              f"{r['ops_g']:6d} {r['M_us']:7.1f} {r['pin_M_us']:6.1f} {r['b_us']:7.1f} {r['pin_b_us']:6.1f} "
+              f"{r['g_us']:7.1f} {r['pin_g_us']:6.1f} {r['batch_us_per_state']:15.2f} {r['pin_loop_us_per_state']:9.2f} "
+              f"{r['pin_loop_us_per_state'] / r['batch_us_per_state']:7.1f}x", flush=True)
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps({"benchmark": "robots", "machine": platform.platform(), "pinocchio": pin.__version__,
+                               "method": args.method, "batch": args.batch, "rows": rows}, indent=2))
+    print(f"written: {out}")
+
+
+if __name__ == "__main__":
+    main()

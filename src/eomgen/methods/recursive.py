@@ -1,0 +1,129 @@
+"""Recursive algorithms in body frames (Featherstone): the composite rigid body algorithm for M and
+the recursive Newton-Euler algorithm for b and g. The cheapest code for numeric robots: joint axes
+are constant in their own frames, so every projection picks a few entries.
+
+Body i's frame sits in its parent's as x_p = R_i x_i + t_i (placement and joint motion).
+
+RNEA (u̇ = 0), body axes:  Ω_i = R_iᵀ Ω_p + a_i u_i,   α_i = R_iᵀ α_p + Ω_i × a_i u_i,
+    a_i = R_iᵀ (a_p + α_p × t_i + Ω_p × (Ω_p × t_i)) (+ 2 Ω_i × a_i u_i, prismatic),
+    f_i = m a_S,  n_i = Θ α_i + Ω_i × Θ Ω_i + c × f_i,   a_S = a_i + α_i × c + Ω_i × (Ω_i × c),
+    F_i = f_i + Σ_c R_c F_c,  N_i = n_i + Σ_c (R_c N_c + t_c × R_c F_c),  b_i = a_i · N_i (F_i, prismatic);
+    g is the same with u = 0 and the base accelerating with −g⃗.
+CRBA: composite (m, h = m c, I_O) from the leaves, moved to the parent by
+    h' = R h + m t,  I_O' = R I_O Rᵀ + m (|t|² 1 − t tᵀ) + 2 (t · R h) 1 − t (R h)ᵀ − (R h) tᵀ;
+    the momentum of a unit joint speed, (a × h, I_O a) revolute or (m a, h × a) prismatic, carried
+    to each ancestor k gives M_kj = a_k · (angular or linear part)."""
+from __future__ import annotations
+
+import sympy as sp
+
+from ..eom import EquationsOfMotion
+from ..kinematics import Kinematics
+from ..linalg import cross, dot, matmul, scale
+from ..model import Prismatic, Revolute
+from .applied import add_armature, generalized_force, potential_energy
+
+
+def derive(kin: Kinematics) -> EquationsOfMotion:
+    system, sub, n = kin.system, kin.sub, kin.n
+    bodies = system.bodies
+    zero = sp.zeros(3, 1)
+    X = {b: _transform(kin, b) for b in bodies}
+    children = {b: [c for c in bodies if c.parent is b] for b in bodies}
+
+    def up(b, lin, ang):
+        """A force (lin, ang) in body b's frame, expressed in its parent's frame."""
+        R, t = X[b]
+        lin = sub.add_matrix(matmul(R, lin))
+        return lin, sub.add_matrix(matmul(R, ang) + cross(t, lin))
+
+    def rnea(u, gravity) -> sp.Matrix:
+        Omega, alpha, acc, F, N = {}, {}, {}, {}, {}
+        for b in bodies:
+            R, t = X[b]
+            if b.parent is None:
+                w_p, al_p, a_p = zero, zero, -gravity
+            else:
+                w_p, al_p, a_p = Omega[b.parent], alpha[b.parent], acc[b.parent]
+            w, al = matmul(R.T, w_p), matmul(R.T, al_p)
+            a = matmul(R.T, a_p + cross(al_p, t) + cross(w_p, cross(w_p, t)))
+            ui = u[b.index] if b.index is not None else 0
+            axis = b.joint.axis
+            if isinstance(b.joint, Revolute) and ui != 0:
+                w = w + scale(ui, axis)
+                al = al + scale(ui, cross(w, axis))
+            Omega[b] = w = sub.add_matrix(w)
+            alpha[b] = al = sub.add_matrix(al)
+            if isinstance(b.joint, Prismatic) and ui != 0:
+                a = a + scale(2 * ui, cross(w, axis))
+            acc[b] = a = sub.add_matrix(a)
+            c = b.com
+            a_S = a + cross(al, c) + cross(w, sub.add_matrix(cross(w, c)))
+            f = sub.add_matrix(scale(b.mass, a_S))
+            N[b] = matmul(b.inertia, al) + cross(w, sub.add_matrix(matmul(b.inertia, w))) + cross(c, f)
+            F[b] = f
+        tau = sp.zeros(n, 1)
+        for b in reversed(bodies):
+            for c in children[b]:
+                lin, ang = up(c, F[c], N[c])
+                F[b], N[b] = F[b] + lin, N[b] + ang
+            F[b], N[b] = sub.add_matrix(F[b]), sub.add_matrix(N[b])
+            if b.index is not None:
+                tau[b.index] = dot(b.joint.axis, F[b] if isinstance(b.joint, Prismatic) else N[b])
+        return tau
+
+    # CRBA: composite inertias from the leaves, then each joint's column up to the root
+    comp = {}
+    for b in reversed(bodies):
+        m, c = b.mass, b.com
+        h = scale(m, c)
+        I_O = b.inertia + scale(m, dot(c, c) * sp.eye(3) - matmul(c, c.T))
+        for ch in children[b]:
+            m_c, h_c, I_c = comp[ch]
+            R, t = X[ch]
+            Rh = sub.add_matrix(matmul(R, h_c))
+            m = m + m_c
+            h = h + Rh + scale(m_c, t)
+            I_O = (I_O + matmul(matmul(R, I_c), R.T) + scale(m_c, dot(t, t) * sp.eye(3) - matmul(t, t.T))
+                   + 2 * dot(t, Rh) * sp.eye(3) - matmul(t, Rh.T) - matmul(Rh, t.T))
+        comp[b] = (sub.add(m), sub.add_matrix(h), _symmetric(sub, I_O))
+    M = sp.zeros(n, n)
+    for b in bodies:
+        if b.index is None:
+            continue
+        m, h, I_O = comp[b]
+        a = b.joint.axis
+        if isinstance(b.joint, Revolute):
+            lin, ang = sub.add_matrix(cross(a, h)), sub.add_matrix(matmul(I_O, a))
+        else:
+            lin, ang = sub.add_matrix(scale(m, a)), sub.add_matrix(cross(h, a))
+        k = b
+        while k is not None:
+            if k.index is not None:
+                M[k.index, b.index] = M[b.index, k.index] = dot(k.joint.axis, lin if isinstance(k.joint, Prismatic) else ang)
+            if k.parent is not None:
+                lin, ang = up(k, lin, ang)
+            k = k.parent
+    add_armature(kin, M)
+    u = sp.Matrix(kin.u)
+    compact = {"M": M, "b": rnea(kin.u, zero), "g": rnea([0] * n, system.gravity),
+               "T": dot(u, matmul(M, u)) / 2, "U": potential_energy(kin)}
+    for load in system.loads:
+        compact[f"tau:{load.name}"] = generalized_force(kin, load)
+    return EquationsOfMotion(kin, "recursive", compact)
+
+
+def _transform(kin: Kinematics, body) -> tuple[sp.Matrix, sp.Matrix]:
+    """(R, t) with x_parent = R x_body + t."""
+    R_q, t_q = body.joint.motion()
+    P = body.placement
+    R = kin.sub.add_matrix(matmul(P.rotation, R_q))
+    return R, kin.sub.add_matrix(P.translation + matmul(P.rotation, t_q))
+
+
+def _symmetric(sub, A: sp.Matrix) -> sp.Matrix:
+    S = sp.zeros(3, 3)
+    for i in range(3):
+        for j in range(i, 3):
+            S[i, j] = S[j, i] = sub.add(A[i, j])
+    return S
