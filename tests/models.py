@@ -26,6 +26,13 @@ def matrices_trig_equal(A, B, q) -> bool:
     return all(trig_zero(a - b, q) for a, b in zip(A, B))
 
 
+def assert_methods_agree(system, method: str, reference: str = "projected_newton_euler") -> None:
+    """M, b, g of two derivations are identical as trigonometric polynomials."""
+    a, b = eg.derive(system, method=reference), eg.derive(system, method=method)
+    for name in ("M", "b", "g"):
+        assert matrices_trig_equal(getattr(a, name), getattr(b, name), list(system.q)), f"{name}: {method}"
+
+
 def cart_pendulum():
     m_c, m_p, l, g = sp.symbols("m_c m_p l g", positive=True)
     system = eg.System(gravity=(0, -g, 0))

@@ -4,43 +4,28 @@ import pytest
 import sympy as sp
 
 import eomgen as eg
-from models import double_pendulum, matrices_trig_equal, numeric_arm, spatial_arm_3dof
+from models import assert_methods_agree, double_pendulum, matrices_trig_equal, numeric_arm, spatial_arm_3dof
 
 
 def _both(system):
     return [eg.derive(system, method=m) for m in ("projected_newton_euler", "lagrange")]
 
 
+@pytest.mark.parametrize("method", ["lagrange", "recursive"])
 @pytest.mark.parametrize("build", [double_pendulum, spatial_arm_3dof])
-def test_recursive_symbolic(build):
-    """The body-frame recursions against projected Newton-Euler, symbolically (skew axes, a prismatic
-    joint, full inertias)."""
-    system = build()
-    ne, other = eg.derive(system), eg.derive(system, method="recursive")
-    q = list(system.q)
-    for name in ("M", "b", "g"):
-        assert matrices_trig_equal(getattr(ne, name), getattr(other, name), q), name
+def test_symbolic_agreement(build, method):
+    """Double pendulum; spatial arm with skew axes, offset and rotated placements, full symbolic
+    inertias and a prismatic joint."""
+    assert_methods_agree(build(), method)
 
 
-def test_double_pendulum_symbolic():
+def test_double_pendulum_textbook_M11():
+    """The textbook M11 of the double pendulum with rods (an independent closed form)."""
     system = double_pendulum()
-    ne, la = _both(system)
     q = list(system.q)
-    for name in ("M", "b", "g"):
-        assert matrices_trig_equal(getattr(ne, name), getattr(la, name), q), name
-    # and the textbook M11 of the double pendulum with rods (independent closed form)
     m1, m2, l1, l2, I1, I2 = sp.symbols("m1 m2 l1 l2 I1 I2", positive=True)
     M11 = I1 + I2 + m1 * l1**2 / 4 + m2 * (l1**2 + l2**2 / 4 + l1 * l2 * sp.cos(q[1]))
-    assert sp.simplify(ne.M[0, 0] - M11) == 0
-
-
-def test_spatial_arm_symbolic():
-    """Skew axes, offset and rotated placements, full symbolic inertias, a prismatic joint."""
-    system = spatial_arm_3dof()
-    ne, la = _both(system)
-    q = list(system.q)
-    for name in ("M", "b", "g"):
-        assert matrices_trig_equal(getattr(ne, name), getattr(la, name), q), name
+    assert sp.simplify(eg.derive(system).M[0, 0] - M11) == 0
 
 
 def test_numeric_6dof_arm_with_loads():
