@@ -7,8 +7,8 @@ from .eom import EquationsOfMotion
 from .errors import ModelError
 from .kinematics import Kinematics
 from .methods import derive
-from .model import Fixed, Placement, Prismatic, Revolute, System, from_urdf, robots
+from .model import Fixed, FreeFlyer, Placement, Prismatic, Revolute, System, from_urdf, robots
 from .verify import verify
 
-__all__ = ["EquationsOfMotion", "Fixed", "Kinematics", "ModelError", "Placement", "Prismatic",
+__all__ = ["EquationsOfMotion", "Fixed", "FreeFlyer", "Kinematics", "ModelError", "Placement", "Prismatic",
            "Revolute", "System", "codegen", "derive", "from_urdf", "robots", "verify", "write_module"]

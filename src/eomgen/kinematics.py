@@ -11,7 +11,7 @@ import sympy as sp
 
 from .errors import ModelError
 from .linalg import cross, dot, matmul, scale
-from .model import Placement, Prismatic, Revolute
+from .model import FreeFlyer, Placement, Prismatic, Revolute
 from .model.loads import Point
 from .model.system import Body, Frame, System
 from .subexpressions import Subexpressions
@@ -25,12 +25,15 @@ class Kinematics:
     def __init__(self, system: System) -> None:
         self.system = system
         self.q, self.u = list(system.q), list(system.u)
-        self.n = len(self.q)
+        self.n = len(self.u)
         self.sub = Subexpressions()
-        self.time_seeds = dict(zip(self.q, self.u))  # q̇ = u
+        self.time_seeds = dict(zip(self.q, system.qdot))  # q̇(q, u): u but for a free-flyer base
         self.R: dict[Body, sp.Matrix] = {}
         self.p: dict[Body, sp.Matrix] = {}
         self.e: dict[Body, sp.Matrix] = {}  # joint axis in world axes
+        # per moving body, its joint's columns (u index, "P" for a direction of translation or "R"
+        # for an axis of rotation through the body origin, world axes)
+        self.columns: dict[Body, list[tuple[int, str, sp.Matrix]]] = {}
         self.chain: dict[Body, list[Body]] = {}  # the moving joints from the root to the body
         self._cache: dict = {}
         for body in system.bodies:
@@ -45,11 +48,17 @@ class Kinematics:
         R_q, t_q = body.joint.motion()
         self.R[body] = self.sub.add_matrix(matmul(R_joint, R_q))
         chain = list(self.chain[parent]) if parent else []
-        if body.index is not None:
+        if isinstance(body.joint, FreeFlyer):
+            R = self.R[body]
+            self.columns[body] = [(body.index + k, "P", R[:, k]) for k in range(3)] + \
+                                 [(body.index + 3 + k, "R", R[:, k]) for k in range(3)]
+            chain.append(body)
+        elif body.index is not None:
             self.e[body] = self.sub.add_matrix(matmul(R_joint, body.joint.axis))
+            self.columns[body] = [(body.index, "P" if isinstance(body.joint, Prismatic) else "R", self.e[body])]
             chain.append(body)
         self.p[body] = self.sub.add_matrix(p_joint + (scale(body.joint.q, self.e[body])
-                                                      if isinstance(body.joint, Prismatic) else t_q))
+                                                      if isinstance(body.joint, Prismatic) else matmul(R_joint, t_q)))
         self.chain[body] = chain
 
     # --- positions ---------------------------------------------------------------------------
@@ -91,8 +100,9 @@ class Kinematics:
                 return J
             r = self.position(point)
             for k in self.chain[point.body]:
-                col = self.e[k] if isinstance(k.joint, Prismatic) else cross(self.e[k], self.sub.add_matrix(r - self.p[k]))
-                J[:, k.index] = self.sub.add_matrix(col)
+                arm = self.sub.add_matrix(r - self.p[k])
+                for i, kind, w in self.columns[k]:
+                    J[:, i] = w if kind == "P" else self.sub.add_matrix(cross(w, arm))
             return J
         return self._cached(("J_P", point.body, tuple(point.offset)), build)
 
@@ -100,8 +110,9 @@ class Kinematics:
         """Rotational Jacobian: column k is e_k for the revolute joints on the way to the body."""
         J = sp.zeros(3, self.n)
         for k in self.chain.get(body, []):
-            if isinstance(k.joint, Revolute):
-                J[:, k.index] = self.e[k]
+            for i, kind, w in self.columns[k]:
+                if kind == "R":
+                    J[:, i] = w
         return J
 
     def jacobian(self, name: str) -> sp.Matrix:
@@ -122,9 +133,10 @@ class Kinematics:
 
         def build():
             Omega = self.omega(body.parent)
-            if isinstance(body.joint, Revolute):
-                Omega = self.sub.add_matrix(Omega + scale(self.u[body.index], self.e[body]))
-            return Omega
+            for i, kind, w in self.columns.get(body, []):
+                if kind == "R":
+                    Omega = Omega + scale(self.u[i], w)
+            return self.sub.add_matrix(Omega)
         return self._cached(("w", body), build)
 
     def time_derivative(self, expr: sp.Matrix) -> sp.Matrix:
@@ -148,7 +160,10 @@ class Kinematics:
             a = a_p + cross(alpha_p, d) + cross(Omega_p, self.sub.add_matrix(cross(Omega_p, d)))
             alpha = alpha_p
             u = self.u[body.index] if body.index is not None else 0
-            if isinstance(body.joint, Revolute):
+            if isinstance(body.joint, FreeFlyer):  # root: α = Ω × Ω = 0, a = Ω × v (axes turn with it)
+                v = sum((scale(self.u[i], w) for i, kind, w in self.columns[body] if kind == "P"), sp.zeros(3, 1))
+                a = cross(self.omega(body), self.sub.add_matrix(v))
+            elif isinstance(body.joint, Revolute):
                 alpha = alpha_p + scale(u, self.sub.add_matrix(cross(Omega_p, self.e[body])))
             elif isinstance(body.joint, Prismatic):
                 a = a + scale(2 * u, self.sub.add_matrix(cross(Omega_p, self.e[body])))

@@ -12,7 +12,7 @@ import numpy as np
 from .codegen import codegen
 from .errors import ModelError
 from .methods import derive
-from .model import Prismatic, Revolute, System
+from .model import FreeFlyer, Prismatic, Revolute, System
 from .model.urdf import pinocchio_configuration
 
 
@@ -34,7 +34,10 @@ def to_pinocchio(system: System):
     for body in system.bodies:
         jid, M_parent = where[body.parent] if body.parent else (0, pin.SE3.Identity())
         M = M_parent * pin.SE3(arr(body.placement.rotation), arr(body.placement.translation).ravel())
-        if body.index is not None:
+        if isinstance(body.joint, FreeFlyer):
+            jid = model.addJoint(jid, pin.JointModelFreeFlyer(), M, body.joint.name)
+            M = pin.SE3.Identity()
+        elif body.index is not None:
             axis = arr(body.joint.axis).ravel()
             kind = "R" if isinstance(body.joint, Revolute) else "P"
             principal = {(1.0, 0.0, 0.0): "X", (0.0, 1.0, 0.0): "Y", (0.0, 0.0, 1.0): "Z"}.get(tuple(axis))
@@ -63,10 +66,17 @@ def end_frames(system: System) -> list[str]:
 
 
 def random_states(system: System, n: int, rng) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """q (revolute in [−π, π], prismatic in [−0.5, 0.5]), u and u̇ in [−2, 2]."""
-    scale = np.array([np.pi if isinstance(j, Revolute) else 0.5 for j in system.joints])
-    q = rng.uniform(-1, 1, (n, system.nq)) * scale
-    return q, rng.uniform(-2, 2, (n, system.nq)), rng.uniform(-2, 2, (n, system.nq))
+    """q (revolute in [−π, π], prismatic in [−0.5, 0.5], a free-flyer base anywhere in [−1, 1]³ with
+    a uniformly random orientation), u and u̇ in [−2, 2]."""
+    parts = []
+    for j in system.joints:
+        if isinstance(j, FreeFlyer):
+            quat = rng.normal(size=(n, 4))
+            parts += [rng.uniform(-1, 1, (n, 3)), quat / np.linalg.norm(quat, axis=1, keepdims=True)]
+        else:
+            parts.append(rng.uniform(-1, 1, (n, 1)) * (np.pi if isinstance(j, Revolute) else 0.5))
+    q = np.concatenate(parts, axis=1)
+    return q, rng.uniform(-2, 2, (n, system.nv)), rng.uniform(-2, 2, (n, system.nv))
 
 
 @dataclass

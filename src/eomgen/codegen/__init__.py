@@ -41,7 +41,7 @@ class NumericEoM:
 
     def __init__(self, eom: EquationsOfMotion) -> None:
         self.eom = eom
-        self.nq = len(eom.q)
+        self.nq, self.nv = len(eom.q), len(eom.u)
         self.params = sorted(eom.system.parameters, key=str)
         self._writer = FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u),
                                                            "ud": list(eom.system.ud), "p": self.params})
@@ -80,7 +80,7 @@ class NumericEoM:
     def call(self, key: str, q, u=None, ud=None, params=None) -> np.ndarray:
         """Evaluate generated function `key` at q, u, u̇ (one state, or N states along axis 0)."""
         f = self.functions[key]
-        return _call(f.function, f.shape, self.nq, q, u, ud, self._p(params, key))
+        return _call(f.function, f.shape, self.nq, self.nv, q, u, ud, self._p(params, key))
 
     def M(self, q, params=None) -> np.ndarray:
         return self.call("M", q, params=params)
@@ -145,7 +145,7 @@ class NumericEoM:
         """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g), solved numerically."""
         rhs = self.tau(q, u, params) - self.b(q, u, params) - self.g(q, params)
         if tau_a is not None:
-            S = np.array(self.eom.S.tolist(), dtype=float).reshape(-1, self.nq)
+            S = np.array(self.eom.S.tolist(), dtype=float).reshape(-1, self.nv)
             rhs = rhs + np.asarray(tau_a, float) @ S
         return np.linalg.solve(self.M(q, params), rhs[..., None])[..., 0]
 

@@ -2,17 +2,17 @@
 verbatim into generated modules (which need only numpy)."""
 
 RUNTIME = '''
-def _call(f, shape, nq, q, u=None, ud=None, p=()):
-    """Evaluate generated function f at one state (q of shape (nq,)) or N states ((N, nq))."""
+def _call(f, shape, nq, nv, q, u=None, ud=None, p=()):
+    """Evaluate generated function f at one state (q of shape (nq,), u of shape (nv,)) or N states."""
     q = numpy.asarray(q, dtype=float)
     if q.ndim not in (1, 2) or q.shape[-1] != nq:
         raise ValueError("q: expected shape (%d,) or (N, %d), got %s" % (nq, nq, q.shape))
     batch = q.shape[:-1]
     args = [q]
     for name, x in (("u", u), ("ud", ud)):
-        x = numpy.zeros(q.shape) if x is None else numpy.asarray(x, dtype=float)
-        if x.shape != q.shape:
-            raise ValueError("%s: expected shape %s, got %s" % (name, q.shape, x.shape))
+        x = numpy.zeros(batch + (nv,)) if x is None else numpy.asarray(x, dtype=float)
+        if x.shape != batch + (nv,):
+            raise ValueError("%s: expected shape %s, got %s" % (name, batch + (nv,), x.shape))
         args.append(x)
     for name, x in zip(("q", "u", "ud"), args):
         if not numpy.all(numpy.isfinite(x)):

@@ -27,6 +27,9 @@ def derive(system: System, method: str = "projected_newton_euler") -> EquationsO
         raise ModelError("the system has no bodies")
     if system.nq == 0:
         raise ModelError("the system has no moving joint (every body is fixed)")
+    if system.floating_base and method in ("lagrange", "free_cut"):
+        raise ModelError(f"method {method!r} does not handle a free-flyer base yet (its speeds are not q̇); "
+                         "use 'projected_newton_euler' or 'recursive'")
     total = sum((b.mass for b in system.bodies), 0)
     if total == 0:
         raise ModelError("the total mass of the system is zero: M would be singular")

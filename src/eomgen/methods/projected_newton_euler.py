@@ -23,7 +23,7 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
     for body in system.bodies:
         if not kin.chain[body]:
             continue
-        idx = [k.index for k in kin.chain[body]]
+        idx = [i for k in kin.chain[body] for i, _, _ in kin.columns[k]]
         S = Point(body, body.com)
         J_P, J_R = kin.J_P(S)[:, idx], kin.J_R(body)[:, idx]
         Theta, Omega = kin.inertia_world(body), kin.omega(body)

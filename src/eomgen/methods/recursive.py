@@ -20,7 +20,7 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
-from ..model import Prismatic, Revolute
+from ..model import FreeFlyer, Prismatic, Revolute
 from .applied import add_armature, generalized_force, potential_energy
 
 
@@ -49,7 +49,10 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
             a = matmul(R.T, a_p + cross(al_p, t) + cross(w_p, cross(w_p, t)))
             ui = u[b.index] if b.index is not None else 0
             axis = b.joint.axis
-            if isinstance(b.joint, Revolute) and ui != 0:
+            if isinstance(b.joint, FreeFlyer):  # root: Ω = ω, v = v_B in the base frame, a = ω × v
+                w = w + sp.Matrix(u[b.index + 3:b.index + 6])
+                a = a + cross(w, sp.Matrix(u[b.index:b.index + 3]))
+            elif isinstance(b.joint, Revolute) and ui != 0:
                 w = w + scale(ui, axis)
                 al = al + scale(ui, cross(w, axis))
             Omega[b] = w = sub.add_matrix(w)
@@ -68,7 +71,9 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
                 lin, ang = up(c, F[c], N[c])
                 F[b], N[b] = F[b] + lin, N[b] + ang
             F[b], N[b] = sub.add_matrix(F[b]), sub.add_matrix(N[b])
-            if b.index is not None:
+            if isinstance(b.joint, FreeFlyer):
+                tau[b.index:b.index + 6, 0] = F[b].col_join(N[b])
+            elif b.index is not None:
                 tau[b.index] = dot(b.joint.axis, F[b] if isinstance(b.joint, Prismatic) else N[b])
         return tau
 
@@ -92,18 +97,19 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
         if b.index is None:
             continue
         m, h, I_O = comp[b]
-        a = b.joint.axis
-        if isinstance(b.joint, Revolute):
-            lin, ang = sub.add_matrix(cross(a, h)), sub.add_matrix(matmul(I_O, a))
-        else:
-            lin, ang = sub.add_matrix(scale(m, a)), sub.add_matrix(cross(h, a))
-        k = b
-        while k is not None:
-            if k.index is not None:
-                M[k.index, b.index] = M[b.index, k.index] = dot(k.joint.axis, lin if isinstance(k.joint, Prismatic) else ang)
-            if k.parent is not None:
-                lin, ang = up(k, lin, ang)
-            k = k.parent
+        for j, kind, a in _motions(b):  # the momentum of a unit speed u_j
+            if kind == "R":
+                lin, ang = sub.add_matrix(cross(a, h)), sub.add_matrix(matmul(I_O, a))
+            else:
+                lin, ang = sub.add_matrix(scale(m, a)), sub.add_matrix(cross(h, a))
+            k = b
+            while k is not None:
+                for i, kind_k, a_k in _motions(k):
+                    if i <= j:
+                        M[i, j] = M[j, i] = dot(a_k, lin if kind_k == "P" else ang)
+                if k.parent is not None:
+                    lin, ang = up(k, lin, ang)
+                k = k.parent
     add_armature(kin, M)
     u = sp.Matrix(kin.u)
     compact = {"M": M, "b": rnea(kin.u, zero), "g": rnea([0] * n, system.gravity),
@@ -111,6 +117,15 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "recursive", compact)
+
+
+def _motions(body) -> list[tuple[int, str, sp.Matrix]]:
+    """(u index, "P" or "R", direction in body axes) of the joint's speeds."""
+    if body.index is None:
+        return []
+    if isinstance(body.joint, FreeFlyer):
+        return [(body.index + k, "P" if k < 3 else "R", sp.eye(3)[:, k % 3]) for k in range(6)]
+    return [(body.index, "P" if isinstance(body.joint, Prismatic) else "R", body.joint.axis)]
 
 
 def _transform(kin: Kinematics, body) -> tuple[sp.Matrix, sp.Matrix]:

@@ -109,8 +109,33 @@ class Joint:
         """(R_j, t_j): the child frame in the joint frame as a function of q."""
         raise NotImplementedError
 
+    @property
+    def coordinates(self) -> list[sp.Symbol]:
+        """The joint's part of q."""
+        return [] if self.q is None else [self.q]
+
+    @property
+    def speeds(self) -> list[sp.Symbol]:
+        """The joint's part of u (u = q̇ for one-coordinate joints: 'phi' → 'phidot')."""
+        return [speed_symbol(q) for q in self.coordinates]
+
+    @property
+    def accelerations(self) -> list[sp.Symbol]:
+        """Symbols of the joint's part of u̇."""
+        return [speed_symbol(q, "ddot") for q in self.coordinates]
+
+    def qdot(self) -> list[sp.Expr]:
+        """q̇ as a function of q and u (the kinematic differential equations)."""
+        return self.speeds
+
     def __repr__(self) -> str:
         return f"{type(self).__name__}({self.name!r}, axis={tuple(self.axis)})"
+
+
+def speed_symbol(q: sp.Symbol, suffix: str = "dot") -> sp.Symbol:
+    """u for coordinate q: 'phi' → 'phidot' (φ̇), 'q_1' → 'qdot_1' (q̇₁)."""
+    base, sep, sub = q.name.partition("_")
+    return sp.Symbol(f"{base}{suffix}{sep}{sub}")
 
 
 class Revolute(Joint):
@@ -125,6 +150,55 @@ class Prismatic(Joint):
 
     def motion(self):
         return sp.eye(3), self.axis * self.q
+
+
+class FreeFlyer(Joint):
+    """A free-flying base (Pinocchio's layout): q = [x, y, z, qx, qy, qz, qw] (position and unit
+    quaternion, scalar last), u = [v, ω], the base twist in the base frame; q̇ = E(q) u with
+    ṗ = R v and the quaternion rate ½ q ⊗ (ω, 0). Only the root body of a tree may have it."""
+
+    dof = 6
+
+    def __init__(self, name: str = "root_joint") -> None:
+        if not isinstance(name, str) or not name.strip():
+            raise ModelError(f"joint name must be a non-empty string, got {name!r}")
+        self.name, self.q, self.axis, self.actuated, self.armature = name, None, None, False, sp.Integer(0)
+        self._q = [sp.Symbol(f"{name}_{c}") for c in ("x", "y", "z", "qx", "qy", "qz", "qw")]
+        self._u = [sp.Symbol(f"{name}_{c}") for c in ("vx", "vy", "vz", "wx", "wy", "wz")]
+
+    @property
+    def coordinates(self):
+        return list(self._q)
+
+    @property
+    def speeds(self):
+        return list(self._u)
+
+    @property
+    def accelerations(self):
+        return [sp.Symbol(f"{s.name}dot") for s in self._u]
+
+    def rotation(self) -> sp.Matrix:
+        """R(quaternion) as Pinocchio / Eigen compute it (for a unit quaternion)."""
+        x, y, z, w = self._q[3:]
+        return sp.Matrix([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                          [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                          [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+    def motion(self):
+        return self.rotation(), sp.Matrix(self._q[:3])
+
+    def qdot(self) -> list[sp.Expr]:
+        """ṗ = R v, (ẋ, ẏ, ż, ẇ) of the quaternion = ½ q ⊗ (ω, 0)."""
+        x, y, z, w = self._q[3:]
+        v, (wx, wy, wz) = sp.Matrix(self._u[:3]), self._u[3:]
+        p_dot = list(self.rotation() * v)
+        half = sp.Rational(1, 2)
+        return p_dot + [half * (w * wx - z * wy + y * wz), half * (z * wx + w * wy - x * wz),
+                        half * (-y * wx + x * wy + w * wz), half * (-x * wx - y * wy - z * wz)]
+
+    def __repr__(self) -> str:
+        return f"FreeFlyer({self.name!r})"
 
 
 class Fixed(Joint):

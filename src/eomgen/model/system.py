@@ -9,14 +9,8 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
-from .joints import Fixed, Joint, Placement, is_numeric, matrix3, vector3
+from .joints import Fixed, FreeFlyer, Joint, Placement, is_numeric, matrix3, vector3
 from .loads import Actuator, Damper, Force, Point, Spring, Torque
-
-
-def speed_symbol(q: sp.Symbol, suffix: str = "dot") -> sp.Symbol:
-    """u for coordinate q: 'phi' → 'phidot' (φ̇), 'q_1' → 'qdot_1' (q̇₁)."""
-    base, sep, sub = q.name.partition("_")
-    return sp.Symbol(f"{base}{suffix}{sep}{sub}")
 
 
 @dataclass(eq=False)
@@ -28,7 +22,8 @@ class Body:
     com: sp.Matrix
     inertia: sp.Matrix
     placement: Placement
-    index: int  # position of its coordinate in q, or None for a fixed joint
+    index: int  # position of its (first) speed in u, or None for a fixed joint
+    q_index: int  # position of its (first) coordinate in q, or None
 
     def __repr__(self) -> str:
         parent = self.parent.name if self.parent else "world"
@@ -62,26 +57,41 @@ class System:
 
     @property
     def q(self) -> sp.Matrix:
-        return sp.Matrix([j.q for j in self.joints])
+        return sp.Matrix([x for j in self.joints for x in j.coordinates])
 
     @property
     def u(self) -> sp.Matrix:
-        return sp.Matrix([speed_symbol(j.q) for j in self.joints])
+        return sp.Matrix([x for j in self.joints for x in j.speeds])
 
     @property
     def ud(self) -> sp.Matrix:
         """Symbols of the accelerations u̇."""
-        return sp.Matrix([speed_symbol(j.q, "ddot") for j in self.joints])
+        return sp.Matrix([x for j in self.joints for x in j.accelerations])
+
+    @property
+    def qdot(self) -> sp.Matrix:
+        """q̇(q, u): the kinematic differential equations (q̇ = u but for a free-flyer base)."""
+        return sp.Matrix([x for j in self.joints for x in j.qdot()])
 
     @property
     def nq(self) -> int:
-        return len(self.joints)
+        """Number of coordinates (7 for a free-flyer base)."""
+        return sum(len(j.coordinates) for j in self.joints)
+
+    @property
+    def nv(self) -> int:
+        """Number of speeds (degrees of freedom)."""
+        return sum(j.dof for j in self.joints)
+
+    @property
+    def floating_base(self) -> bool:
+        return any(isinstance(j, FreeFlyer) for j in self.joints)
 
     @property
     def S(self) -> sp.Matrix:
-        """Selection matrix: one row per actuated joint, τ_gen = Sᵀ τ."""
+        """Selection matrix: one row per actuated joint, τ_gen = Sᵀ τ (a floating base is not actuated)."""
         rows = [b.index for b in self.bodies if b.index is not None and b.joint.actuated]
-        S = sp.zeros(len(rows), self.nq)
+        S = sp.zeros(len(rows), self.nv)
         for r, i in enumerate(rows):
             S[r, i] = 1
         return S
@@ -132,8 +142,11 @@ class System:
         if not isinstance(joint, Joint):
             raise ModelError(f"body '{name}': unsupported joint type {type(joint).__name__}; "
                              "use Revolute, Prismatic or Fixed")
-        if joint.q is not None and joint.q in set(self.q):
-            raise ModelError(f"body '{name}': coordinate '{joint.q}' is used by another joint already")
+        used = set(joint.coordinates) & set(self.q)
+        if used:
+            raise ModelError(f"body '{name}': coordinate '{used.pop()}' is used by another joint already")
+        if isinstance(joint, FreeFlyer) and parent is not None:
+            raise ModelError(f"body '{name}': a FreeFlyer joint must attach the root body to the world")
         mass = sp.sympify(mass)
         if mass.is_negative or (mass.is_number and not mass.is_real):
             raise ModelError(f"body '{name}': mass must be non-negative, got {mass}")
@@ -145,7 +158,7 @@ class System:
         if not isinstance(placement, Placement):
             raise ModelError(f"body '{name}': placement must be an eomgen.Placement")
         body = Body(name, parent, joint, mass, com, inertia, placement,
-                    self.nq if joint.dof else None)
+                    self.nv if joint.dof else None, self.nq if joint.dof else None)
         self.bodies.append(body)
         self._bodies[name] = body
         return body

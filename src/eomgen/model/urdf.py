@@ -8,7 +8,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
-from .joints import Fixed, Placement, Prismatic, Revolute
+from .joints import Fixed, FreeFlyer, Placement, Prismatic, Revolute
 from .system import System
 
 _AXES = {"X": (1, 0, 0), "Y": (0, 1, 0), "Z": (0, 0, 1)}
@@ -40,6 +40,8 @@ def _joint(jmodel, name: str, armature: float):
         return Revolute(name, axis=axis, armature=armature), rest == "RevoluteUnboundedUnaligned"
     if rest in ("PX", "PY", "PZ"):
         return Prismatic(name, axis=_AXES[rest[-1]], armature=armature), False
+    if rest == "FreeFlyer":
+        return FreeFlyer(name), False
     if rest == "PrismaticUnaligned":
         return Prismatic(name, axis=tuple(number(x) for x in jmodel.extract().axis), armature=armature), False
     raise ModelError(f"joint '{name}': unsupported joint type {kind} (eomgen models revolute, continuous, "
@@ -53,10 +55,9 @@ def parse_urdf(path, floating_base: bool = False, srdf=None):
     path = Path(path)
     if not path.is_file():
         raise ModelError(f"URDF file not found: {path}")
-    if floating_base:
-        raise ModelError(f"{path.name}: floating_base=True is not supported yet (fixed-base robots only)")
     try:
-        model = pin.buildModelFromUrdf(str(path))
+        model = (pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer()) if floating_base
+                 else pin.buildModelFromUrdf(str(path)))
     except Exception as exc:  # Pinocchio raises ValueError / RuntimeError with the parser's message
         raise ModelError(f"cannot read URDF {path}: {exc}") from None
     if srdf is not None:
@@ -83,8 +84,9 @@ def from_pinocchio(model, gravity=None, strict: bool = True) -> System:
     for f in frames:
         if f.type == pin.FrameType.BODY and f.parentJoint not in body_frame:
             body_frame[f.parentJoint] = f.name
+    floating = model.njoints > 1 and model.joints[1].shortname() == "JointModelFreeFlyer"
     root = body_frame.get(0, "world")
-    bodies = {0: system.add_body(root, joint=Fixed(f"{root}_fixed"))}
+    bodies = {0: None if floating else system.add_body(root, joint=Fixed(f"{root}_fixed"))}
     continuous = []
     for i in range(1, model.njoints):
         name = model.names[i]
@@ -100,7 +102,7 @@ def from_pinocchio(model, gravity=None, strict: bool = True) -> System:
         continuous.append(is_continuous)
     taken = {b.name for b in system.bodies}
     for f in frames:
-        if f.name in taken or f.name == "universe":
+        if f.name in taken or f.name == "universe" or bodies[f.parentJoint] is None:
             continue
         taken.add(f.name)
         system.add_frame(f.name, bodies[f.parentJoint],
@@ -121,9 +123,12 @@ def from_urdf(path, floating_base: bool = False, srdf=None, strict: bool = True)
 
 
 def pinocchio_configuration(system: System, q) -> np.ndarray:
-    """Pinocchio's q from eomgen's: a continuous joint's angle θ becomes (cos θ, sin θ)."""
+    """Pinocchio's q from eomgen's: a continuous joint's angle θ becomes (cos θ, sin θ); a
+    free-flyer base has the same 7 numbers in both."""
     q = np.asarray(q, float)
-    parts = []
-    for k, is_continuous in enumerate(getattr(system, "continuous", [False] * system.nq)):
-        parts.append([np.cos(q[..., k]), np.sin(q[..., k])] if is_continuous else [q[..., k]])
-    return np.stack([x for part in parts for x in part], axis=-1)
+    parts, k = [], 0
+    for joint, is_continuous in zip(system.joints, getattr(system, "continuous", [False] * len(system.joints))):
+        n = len(joint.coordinates)
+        parts += [np.cos(q[..., k]), np.sin(q[..., k])] if is_continuous else [q[..., k + i] for i in range(n)]
+        k += n
+    return np.stack(parts, axis=-1)
