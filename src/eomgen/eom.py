@@ -88,7 +88,7 @@ class EquationsOfMotion:
     @property
     def tau_compact(self) -> sp.Matrix:
         """Σ of the loads' generalized forces, in intermediates."""
-        return sum((self.compact[f"tau:{name}"] for name in self.load_names), sp.zeros(len(self.q), 1))
+        return sum((self.compact[f"tau:{name}"] for name in self.load_names), sp.zeros(len(self.u), 1))
 
     @property
     def tau(self) -> sp.Matrix:

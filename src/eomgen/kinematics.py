@@ -191,6 +191,14 @@ class Kinematics:
         f = self._frame(name)
         return self.Jdot_u_P(Point(f.body, f.placement.translation)).col_join(self.Jdot_u_R(f.body))
 
+    def contact_jacobian(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """(J_c, J̇_c u): the rows of every contact stacked (3 for a point, 6 for a frame)."""
+        J, Jdot_u = sp.zeros(0, self.n), sp.zeros(0, 1)
+        for c in self.system.contacts:
+            J = J.col_join(self.jacobian(c.frame)[:c.rows, :])
+            Jdot_u = Jdot_u.col_join(self.jacobian_dot_u(c.frame)[:c.rows, :])
+        return J, Jdot_u
+
     # --- helpers ------------------------------------------------------------------------------
     def _frame(self, name: str):
         if name in self.system.frames:

@@ -10,6 +10,7 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
+from .contacts import contact_dynamics, row_names, support_projector
 from .numpy_backend import FunctionWriter, compile_function
 from .runtime import runtime_namespace
 
@@ -141,13 +142,51 @@ class NumericEoM:
             raise ModelError(f"unknown joint {joint!r}; joints are {sorted(results)}")
         return results[joint] if joint is not None else results
 
-    def forward_dynamics(self, q, u, tau_a=None, params=None) -> np.ndarray:
-        """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g), solved numerically."""
-        rhs = self.tau(q, u, params) - self.b(q, u, params) - self.g(q, params)
+    def _h(self, q, u, tau_a, params) -> np.ndarray:
+        """h = Sᵀ τ_a + τ_loads − b − g."""
+        h = self.tau(q, u, params) - self.b(q, u, params) - self.g(q, params)
         if tau_a is not None:
             S = np.array(self.eom.S.tolist(), dtype=float).reshape(-1, self.nv)
-            rhs = rhs + np.asarray(tau_a, float) @ S
-        return np.linalg.solve(self.M(q, params), rhs[..., None])[..., 0]
+            h = h + np.asarray(tau_a, float) @ S
+        return h
+
+    def forward_dynamics(self, q, u, tau_a=None, params=None) -> np.ndarray:
+        """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g), solved numerically (no contacts)."""
+        return np.linalg.solve(self.M(q, params), self._h(q, u, tau_a, params)[..., None])[..., 0]
+
+    # --- contacts (one state at a time) --------------------------------------------------------
+    def contact_jacobian(self, q, params=None) -> np.ndarray:
+        """J_c: the stacked rows of the system's contacts (3 per point, 6 per frame contact)."""
+        self._function("J_c", lambda: self.eom.kinematics.contact_jacobian()[0])
+        return self.call("J_c", q, params=params)
+
+    def contact_jacobian_dot_u(self, q, u, params=None) -> np.ndarray:
+        self._function("Jdot_c_u", lambda: self.eom.kinematics.contact_jacobian()[1])
+        return self.call("Jdot_c_u", q, u, params=params)[..., 0]
+
+    def _contacts(self):
+        if not self.eom.system.contacts:
+            raise ModelError("the system has no contacts: add them with System.add_contact(frame, kind)")
+        return row_names(self.eom.system.contacts)
+
+    def constrained_dynamics(self, q, u, tau_a=None, params=None) -> tuple[np.ndarray, np.ndarray]:
+        """(u̇, F_c) with every contact held: F_c = −(J M⁻¹ Jᵀ)⁻¹ (J M⁻¹ h + J̇ u), the forces on the robot."""
+        names = self._contacts()
+        return contact_dynamics(self.M(q, params), self._h(q, u, tau_a, params), self.contact_jacobian(q, params),
+                                self.contact_jacobian_dot_u(q, u, params), names)
+
+    def contact_forces(self, q, u, tau_a=None, params=None) -> np.ndarray:
+        """F_c, stacked like J_c's rows (world-aligned axes)."""
+        return self.constrained_dynamics(q, u, tau_a, params)[1]
+
+    def support_projector(self, q, params=None) -> np.ndarray:
+        """N_c = 1 − M⁻¹ J_cᵀ (J_c M⁻¹ J_cᵀ)⁻¹ J_c (J_c N_c = 0, N_c² = N_c)."""
+        return support_projector(self.M(q, params), self.contact_jacobian(q, params), self._contacts())
+
+    def support_consistent_residual(self, q, u, ud, tau_a=None, params=None) -> np.ndarray:
+        """N_cᵀ (M u̇ + b + g − Sᵀ τ − τ_loads): zero along any motion the contacts allow."""
+        N = self.support_projector(q, params)
+        return N.T @ (self.M(q, params) @ np.asarray(ud, float) - self._h(q, u, tau_a, params))
 
 
 def codegen(eom: EquationsOfMotion, backend: str = "numpy") -> NumericEoM:

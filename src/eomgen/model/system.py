@@ -37,6 +37,18 @@ class Frame:
     placement: Placement
 
 
+@dataclass(frozen=True)
+class Contact:
+    """A rigid contact at a frame: "point" (3 rows, J_P of its origin) or "frame" (6 rows)."""
+
+    frame: str
+    kind: str
+
+    @property
+    def rows(self) -> int:
+        return 3 if self.kind == "point" else 6
+
+
 class System:
     """Rigid bodies connected by joints in a tree rooted at the (inertial) world."""
 
@@ -48,6 +60,7 @@ class System:
         self.bodies: list[Body] = []
         self.frames: dict[str, Frame] = {}
         self.loads: list = []
+        self.contacts: list[Contact] = []
         self._bodies: dict[str, Body] = {}
 
     # --- coordinates -------------------------------------------------------------------------
@@ -170,6 +183,18 @@ class System:
         frame = Frame(name, self.body(body), Placement() if placement is None else placement)
         self.frames[name] = frame
         return frame
+
+    def add_contact(self, frame: str, kind: str = "point") -> Contact:
+        """A rigid contact at a frame or body origin: kind "point" (3D) or "frame" (6D)."""
+        if kind not in ("point", "frame"):
+            raise ModelError(f"contact at '{frame}': kind must be 'point' or 'frame', got {kind!r}")
+        if frame not in self.frames and frame not in self._bodies:
+            raise ModelError(f"contact: unknown frame {frame!r}; frames are {sorted(self.frames)}")
+        if any(c.frame == frame for c in self.contacts):
+            raise ModelError(f"contact at '{frame}' exists already")
+        contact = Contact(frame, kind)
+        self.contacts.append(contact)
+        return contact
 
     def point(self, ref) -> Point:
         """A point from: a frame or body name, a Body (its origin), (body or None, offset), or None (the

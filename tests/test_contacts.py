@@ -1,0 +1,103 @@
+"""Contacts on floating-base robots against Pinocchio's constraintDynamics, the support null-space
+projector, and a robot standing still."""
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import eomgen as eg
+from eomgen.verify import random_states
+
+SOLO_FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
+TALOS_FEET = ["left_sole_link", "right_sole_link"]
+
+
+def _with_contacts(name, frames, kind):
+    system = eg.robots.load(name)
+    for f in frames:
+        system.add_contact(f, kind)
+    return system, eg.codegen(eg.derive(system, method="recursive"))
+
+
+def _pinocchio_constraints(model, frames, kind):
+    models, datas = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
+    contact = pin.ContactType.CONTACT_3D if kind == "point" else pin.ContactType.CONTACT_6D
+    for f in frames:
+        frame = model.frames[model.getFrameId(f)]
+        c = pin.RigidConstraintModel(contact, model, frame.parentJoint, frame.placement,
+                                     pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+        models.append(c)
+        datas.append(c.createData())
+    return models, datas
+
+
+@pytest.mark.parametrize("name,frames,kind", [("solo12", SOLO_FEET, "point"), ("talos", TALOS_FEET, "frame")])
+def test_constrained_dynamics_equals_pinocchio(name, frames, kind):
+    """Contact forces and accelerations at random states whose speeds respect the contacts
+    (J_c u = 0, where the classical and spatial contact accelerations coincide), to 1e-8."""
+    system, f = _with_contacts(name, frames, kind)
+    model = system.pinocchio_model
+    data = model.createData()
+    models, datas = _pinocchio_constraints(model, frames, kind)
+    pin.initConstraintDynamics(model, data, models, datas)
+    rng = np.random.default_rng(6)
+    q, u, _ = random_states(system, 5, rng)
+    for k in range(5):
+        J = f.contact_jacobian(q[k])
+        assert J.shape == (len(frames) * (3 if kind == "point" else 6), system.nv)
+        uk = u[k] - np.linalg.pinv(J) @ (J @ u[k])
+        tau = rng.uniform(-2, 2, system.nv - 6)
+        ud, F = f.constrained_dynamics(q[k], uk, tau)
+        a = pin.constraintDynamics(model, data, q[k], uk, np.concatenate([np.zeros(6), tau]), models, datas,
+                                   pin.ProximalSettings(1e-14, 1e-12, 1))
+        np.testing.assert_allclose(F, data.lambda_c, rtol=0, atol=1e-8 * max(1, np.abs(F).max()))
+        np.testing.assert_allclose(ud, a, rtol=0, atol=1e-8 * max(1, np.abs(a).max()))
+
+
+def test_support_projector_and_support_consistent_dynamics():
+    system, f = _with_contacts("solo12", SOLO_FEET, "point")
+    q, u, _ = random_states(system, 3, np.random.default_rng(7))
+    for k in range(3):
+        N = f.support_projector(q[k])
+        J = f.contact_jacobian(q[k])
+        assert np.abs(J @ N).max() < 1e-10
+        assert np.abs(N @ N - N).max() < 1e-10
+        tau = np.linspace(-1, 1, 12)
+        ud, _ = f.constrained_dynamics(q[k], u[k], tau)
+        assert np.abs(f.support_consistent_residual(q[k], u[k], ud, tau)).max() < 1e-9
+
+
+def test_standing_still_carries_the_weight():
+    """Joint torques that hold the robot still (N_cᵀ (g − Sᵀ τ) = 0): the accelerations vanish and the
+    contact forces sum to the weight."""
+    system, f = _with_contacts("solo12", SOLO_FEET, "point")
+    model = system.pinocchio_model
+    q = pin.neutral(model)
+    q[2] = 0.3
+    q[7:] = np.tile([0.0, 0.8, -1.6], 4)
+    N = f.support_projector(q)
+    S = np.array(system.S.tolist(), float)
+    tau = np.linalg.lstsq(N.T @ S.T, N.T @ f.g(q), rcond=None)[0]
+    ud, F = f.constrained_dynamics(q, np.zeros(system.nv), tau)
+    assert np.abs(ud).max() < 1e-9
+    weight = sum(inertia.mass for inertia in model.inertias) * 9.81
+    np.testing.assert_allclose(F.reshape(4, 3).sum(axis=0), [0, 0, weight], atol=1e-9 * weight)
+
+
+def test_redundant_contacts_warn_and_name_the_rows():
+    """A quadruped on four 6D feet: 24 constraints on 18 speeds; at rest the feet hold it still."""
+    system, f = _with_contacts("solo12", SOLO_FEET, "frame")
+    q, _, _ = random_states(system, 1, np.random.default_rng(8))
+    with pytest.warns(UserWarning, match=r"rank-deficient contact set: \[.*'HR_FOOT.rz'\] repeat"):
+        ud, F = f.constrained_dynamics(q[0], np.zeros(18), np.linspace(-1, 1, 12))
+    assert np.abs(ud).max() < 1e-8 and np.isfinite(F).all()
+
+
+def test_contact_errors():
+    system = eg.robots.load("solo12")
+    with pytest.raises(eg.ModelError, match="unknown frame 'FOOT'"):
+        system.add_contact("FOOT")
+    with pytest.raises(eg.ModelError, match="kind must be 'point' or 'frame'"):
+        system.add_contact("FL_FOOT", kind="line")
+    f = eg.codegen(eg.derive(system, method="recursive"))
+    with pytest.raises(eg.ModelError, match="no contacts"):
+        f.contact_forces(np.r_[0, 0, 0.3, 0, 0, 0, 1, np.zeros(12)], np.zeros(18))
