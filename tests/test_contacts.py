@@ -101,3 +101,15 @@ def test_contact_errors():
     f = eg.codegen(eg.derive(system, method="recursive"))
     with pytest.raises(eg.ModelError, match="no contacts"):
         f.contact_forces(np.r_[0, 0, 0.3, 0, 0, 0, 1, np.zeros(12)], np.zeros(18))
+
+
+def test_example_runs(capsys):
+    import runpy
+    from pathlib import Path
+
+    runpy.run_path(str(Path(__file__).parents[1] / "examples" / "quadruped_contact.py"), run_name="__main__")
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if x.startswith("sum of contact forces"))
+    weight = float(out.split("weight ")[1].split(" N")[0])
+    assert abs(float(line.split("[")[1].split("]")[0].split()[2]) - weight) < 1e-3
+    assert "ZYX Euler angles are singular" in out

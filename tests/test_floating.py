@@ -42,3 +42,71 @@ def test_free_flyer_model_and_errors():
     base = s.add_body("base", joint=eg.Revolute("q0"), mass=1)
     with pytest.raises(eg.ModelError, match="FreeFlyer joint must attach the root body"):
         s.add_body("second", parent=base, joint=eg.FreeFlyer("ff"), mass=1)
+
+
+def _euler_to_quaternion_state(qe):
+    """Quaternion-base q and the speed map T (u_quaternion = T u_euler) for a ZYX Euler-base q."""
+    from scipy.spatial.transform import Rotation
+
+    yaw, pitch, roll = qe[3:6]
+    R = Rotation.from_euler("ZYX", [yaw, pitch, roll]).as_matrix()
+    Rz, Ry = Rotation.from_euler("Z", yaw).as_matrix(), Rotation.from_euler("Y", pitch).as_matrix()
+    E = np.column_stack([[0, 0, 1], Rz[:, 1], (Rz @ Ry)[:, 0]])  # ω = E (ψ̇, θ̇, φ̇)
+    T = np.eye(len(qe))
+    T[:3, :3], T[3:6, 3:6] = R.T, R.T @ E
+    return np.concatenate([qe[:3], Rotation.from_matrix(R).as_quat(), qe[6:]]), T
+
+
+@pytest.mark.parametrize("pitch", [0.3, -1.2, np.pi / 2 - 1e-4])
+def test_euler_base_equals_quaternion_base(pitch):
+    """M_e = Tᵀ M_q T, g_e = Tᵀ g_q, b_e = Tᵀ (b_q + M_q Ṫ u_e) (Ṫ u_e by central differences); near
+    pitch 90° the forward dynamics warns with the condition number of M."""
+    euler, quat = eg.robots.load("solo12", base="euler"), eg.robots.load("solo12")
+    assert euler.nq == euler.nv == 18
+    fe, fq = eg.codegen(eg.derive(euler)), eg.codegen(eg.derive(quat, method="recursive"))
+    rng = np.random.default_rng(9)
+    qe = np.concatenate([rng.uniform(-1, 1, 3), [0.4, pitch, -0.7], rng.uniform(-1, 1, 12)])
+    ue = rng.uniform(-1, 1, 18)
+    qq, T = _euler_to_quaternion_state(qe)
+    Mq = fq.M(qq)
+    np.testing.assert_allclose(fe.M(qe), T.T @ Mq @ T, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(fe.g(qe), T.T @ fq.g(qq), rtol=0, atol=1e-12)
+    h = 1e-6
+    Tdot_u = (_euler_to_quaternion_state(qe + h * ue)[1] - _euler_to_quaternion_state(qe - h * ue)[1]) @ ue / (2 * h)
+    np.testing.assert_allclose(fe.b(qe, ue), T.T @ (fq.b(qq, T @ ue) + Mq @ Tdot_u), rtol=0, atol=1e-8)
+    cond = np.linalg.cond(fe.M(qe))
+    if abs(np.cos(pitch)) < 1e-3:
+        with pytest.warns(UserWarning, match=r"pitch 1.570696 rad is 1.0e-04 from ±90°.*cond\(M\) = "):
+            fe.forward_dynamics(qe, ue)
+        assert cond > 1e8  # the error this costs: M is nearly singular
+    else:
+        assert fe.euler_singularity(qe) is None and cond < 1e6
+
+
+def test_euler_base_lagrange_equals_projected_newton_euler():
+    """With u = q̇ Lagrange II applies to the Euler base: a flying box carrying one link."""
+    system = eg.System(gravity=(0, 0, -9.81))
+    base = system.add_body("box", joint=eg.FreeFlyer("base", parametrization="euler"), mass=2.0,
+                           com=(0.1, 0.0, -0.05), inertia=np.diag([0.05, 0.08, 0.1]).tolist())
+    system.add_body("arm", parent=base, joint=eg.Revolute("q_1", axis=(0, 1, 0)), mass=0.5, com=(0.3, 0, 0),
+                    inertia=np.diag([0.001, 0.01, 0.01]).tolist(), placement=eg.Placement(translation=(0.2, 0, 0.1)))
+    fl, fp = eg.codegen(eg.derive(system, method="lagrange")), eg.codegen(eg.derive(system))
+    rng = np.random.default_rng(10)
+    for _ in range(5):
+        q, u = rng.uniform(-1, 1, 7), rng.uniform(-2, 2, 7)
+        np.testing.assert_allclose(fl.M(q), fp.M(q), rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(fl.b(q, u), fp.b(q, u), rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(fl.g(q), fp.g(q), rtol=1e-12, atol=1e-12)
+    with pytest.raises(eg.ModelError, match="Pinocchio has no ZYX Euler free flyer"):
+        eg.verify(system)
+
+
+def test_integrate_equals_pinocchio():
+    system = eg.robots.load("solo12")
+    q, u, _ = eg.random_states(system, 5, np.random.default_rng(11))
+    import pinocchio as pin
+
+    for k in range(5):
+        for dt in (1e-3, 0.37):
+            np.testing.assert_allclose(eg.integrate(system, q[k], u[k], dt),
+                                       pin.integrate(system.pinocchio_model, q[k], u[k] * dt), atol=1e-14)

@@ -49,9 +49,14 @@ class Kinematics:
         self.R[body] = self.sub.add_matrix(matmul(R_joint, R_q))
         chain = list(self.chain[parent]) if parent else []
         if isinstance(body.joint, FreeFlyer):
-            R = self.R[body]
-            self.columns[body] = [(body.index + k, "P", R[:, k]) for k in range(3)] + \
-                                 [(body.index + 3 + k, "R", R[:, k]) for k in range(3)]
+            if body.joint.parametrization == "euler":  # u = q̇: world axes, and the Euler rate axes
+                axes = [self.sub.add_matrix(matmul(R_joint, w)) for w in body.joint.angular_axes()]
+                self.columns[body] = [(body.index + k, "P", R_joint[:, k]) for k in range(3)] + \
+                                     [(body.index + 3 + k, "R", axes[k]) for k in range(3)]
+            else:  # u = body twist: the base's own axes
+                R = self.R[body]
+                self.columns[body] = [(body.index + k, "P", R[:, k]) for k in range(3)] + \
+                                     [(body.index + 3 + k, "R", R[:, k]) for k in range(3)]
             chain.append(body)
         elif body.index is not None:
             self.e[body] = self.sub.add_matrix(matmul(R_joint, body.joint.axis))
@@ -160,7 +165,13 @@ class Kinematics:
             a = a_p + cross(alpha_p, d) + cross(Omega_p, self.sub.add_matrix(cross(Omega_p, d)))
             alpha = alpha_p
             u = self.u[body.index] if body.index is not None else 0
-            if isinstance(body.joint, FreeFlyer):  # root: α = Ω × Ω = 0, a = Ω × v (axes turn with it)
+            if isinstance(body.joint, FreeFlyer) and body.joint.parametrization == "euler":
+                # root, u = q̇: a = 0; α = Σ ẇ_k u_k with ẇ_2 = ψ̇ e_z × w_2, ẇ_3 = (ψ̇ e_z + θ̇ w_2) × w_3
+                (_, _, w1), (_, _, w2), (_, _, w3) = self.columns[body][3:]
+                yaw_d, pitch_d, roll_d = self.u[body.index + 3:body.index + 6]
+                turn = self.sub.add_matrix(scale(yaw_d, w1) + scale(pitch_d, w2))
+                alpha = scale(yaw_d * pitch_d, cross(w1, w2)) + scale(roll_d, cross(turn, w3))
+            elif isinstance(body.joint, FreeFlyer):  # root: α = Ω × Ω = 0, a = Ω × v (axes turn with it)
                 v = sum((scale(self.u[i], w) for i, kind, w in self.columns[body] if kind == "P"), sp.zeros(3, 1))
                 a = cross(self.omega(body), self.sub.add_matrix(v))
             elif isinstance(body.joint, Revolute):

@@ -14,6 +14,7 @@ from .errors import ModelError
 from .methods import derive
 from .model import FreeFlyer, Prismatic, Revolute, System
 from .model.urdf import pinocchio_configuration
+from .state import random_states
 
 
 def to_pinocchio(system: System):
@@ -35,6 +36,9 @@ def to_pinocchio(system: System):
         jid, M_parent = where[body.parent] if body.parent else (0, pin.SE3.Identity())
         M = M_parent * pin.SE3(arr(body.placement.rotation), arr(body.placement.translation).ravel())
         if isinstance(body.joint, FreeFlyer):
+            if body.joint.parametrization != "quaternion":
+                raise ModelError(f"joint '{body.joint.name}': Pinocchio has no ZYX Euler free flyer; compare "
+                                 "the quaternion base with Pinocchio and map the speeds")
             jid = model.addJoint(jid, pin.JointModelFreeFlyer(), M, body.joint.name)
             M = pin.SE3.Identity()
         elif body.index is not None:
@@ -63,20 +67,6 @@ def end_frames(system: System) -> list[str]:
     ends = [b.name for b in system.bodies if b in leaves and b.index is not None]
     ends += [name for name, f in system.frames.items() if f.body in leaves]
     return ends
-
-
-def random_states(system: System, n: int, rng) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """q (revolute in [−π, π], prismatic in [−0.5, 0.5], a free-flyer base anywhere in [−1, 1]³ with
-    a uniformly random orientation), u and u̇ in [−2, 2]."""
-    parts = []
-    for j in system.joints:
-        if isinstance(j, FreeFlyer):
-            quat = rng.normal(size=(n, 4))
-            parts += [rng.uniform(-1, 1, (n, 3)), quat / np.linalg.norm(quat, axis=1, keepdims=True)]
-        else:
-            parts.append(rng.uniform(-1, 1, (n, 1)) * (np.pi if isinstance(j, Revolute) else 0.5))
-    q = np.concatenate(parts, axis=1)
-    return q, rng.uniform(-2, 2, (n, system.nv)), rng.uniform(-2, 2, (n, system.nv))
 
 
 @dataclass

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import re
+import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
@@ -10,6 +11,7 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
+from ..model import FreeFlyer
 from .contacts import contact_dynamics, row_names, support_projector
 from .numpy_backend import FunctionWriter, compile_function
 from .runtime import runtime_namespace
@@ -150,8 +152,25 @@ class NumericEoM:
             h = h + np.asarray(tau_a, float) @ S
         return h
 
+    def euler_singularity(self, q, tol: float = 1e-3) -> float | None:
+        """For a ZYX Euler base: warn when the pitch is within `tol` of ±90° (where the angle rates are
+        undefined and M is singular) and return cond(M); None when the state is regular."""
+        for b in self.eom.system.bodies:
+            if isinstance(b.joint, FreeFlyer) and b.joint.parametrization == "euler":
+                pitch = float(np.asarray(q, float)[b.q_index + 4])
+                if abs(np.cos(pitch)) < tol:
+                    cond = float(np.linalg.cond(self.M(q)))
+                    warnings.warn(f"joint '{b.joint.name}': pitch {pitch:.6f} rad is {abs(np.cos(pitch)):.1e} "
+                                  f"from ±90°, where ZYX Euler angles are singular; cond(M) = {cond:.1e}",
+                                  stacklevel=3)
+                    return cond
+        return None
+
     def forward_dynamics(self, q, u, tau_a=None, params=None) -> np.ndarray:
-        """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g), solved numerically (no contacts)."""
+        """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g), solved numerically (no contacts); warns near an Euler-base
+        singularity."""
+        if np.ndim(q) == 1:
+            self.euler_singularity(q)
         return np.linalg.solve(self.M(q, params), self._h(q, u, tau_a, params)[..., None])[..., 0]
 
     # --- contacts (one state at a time) --------------------------------------------------------

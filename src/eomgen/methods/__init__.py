@@ -4,6 +4,7 @@ from __future__ import annotations
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..kinematics import Kinematics
+from ..model import FreeFlyer
 from ..model.system import System
 from . import free_cut, lagrange, projected_newton_euler, recursive
 
@@ -27,9 +28,13 @@ def derive(system: System, method: str = "projected_newton_euler") -> EquationsO
         raise ModelError("the system has no bodies")
     if system.nq == 0:
         raise ModelError("the system has no moving joint (every body is fixed)")
-    if system.floating_base and method in ("lagrange", "free_cut"):
-        raise ModelError(f"method {method!r} does not handle a free-flyer base yet (its speeds are not q̇); "
-                         "use 'projected_newton_euler' or 'recursive'")
+    for joint in system.joints:
+        euler = getattr(joint, "parametrization", None) == "euler"
+        if (isinstance(joint, FreeFlyer) and (method == "free_cut" or (method == "lagrange" and not euler)
+                                              or (method == "recursive" and euler))):
+            raise ModelError(f"joint '{joint.name}': method {method!r} does not handle a "
+                             f"{joint.parametrization} free-flyer base; use 'projected_newton_euler'"
+                             + (" or 'lagrange'" if euler else " or 'recursive'"))
     total = sum((b.mass for b in system.bodies), 0)
     if total == 0:
         raise ModelError("the total mass of the system is zero: M would be singular")

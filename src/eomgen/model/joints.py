@@ -153,18 +153,29 @@ class Prismatic(Joint):
 
 
 class FreeFlyer(Joint):
-    """A free-flying base (Pinocchio's layout): q = [x, y, z, qx, qy, qz, qw] (position and unit
-    quaternion, scalar last), u = [v, ω], the base twist in the base frame; q̇ = E(q) u with
-    ṗ = R v and the quaternion rate ½ q ⊗ (ω, 0). Only the root body of a tree may have it."""
+    """A free-flying base; only the root body of a tree may have it.
+
+    parametrization "quaternion" (Pinocchio's layout): q = [x, y, z, qx, qy, qz, qw] (scalar last),
+    u = [v, ω], the base twist in the base frame, q̇ = E(q) u with ṗ = R v and the quaternion rate
+    ½ q ⊗ (ω, 0). parametrization "euler": q = [x, y, z, ψ, θ, φ] (ZYX: R = Rz(ψ) Ry(θ) Rx(φ)) and
+    u = q̇; singular at pitch θ = ±90°, where ω no longer determines the angle rates."""
 
     dof = 6
 
-    def __init__(self, name: str = "root_joint") -> None:
+    def __init__(self, name: str = "root_joint", parametrization: str = "quaternion") -> None:
         if not isinstance(name, str) or not name.strip():
             raise ModelError(f"joint name must be a non-empty string, got {name!r}")
+        if parametrization not in ("quaternion", "euler"):
+            raise ModelError(f"joint '{name}': parametrization must be 'quaternion' or 'euler', "
+                             f"got {parametrization!r}")
         self.name, self.q, self.axis, self.actuated, self.armature = name, None, None, False, sp.Integer(0)
-        self._q = [sp.Symbol(f"{name}_{c}") for c in ("x", "y", "z", "qx", "qy", "qz", "qw")]
-        self._u = [sp.Symbol(f"{name}_{c}") for c in ("vx", "vy", "vz", "wx", "wy", "wz")]
+        self.parametrization = parametrization
+        if parametrization == "quaternion":
+            self._q = [sp.Symbol(f"{name}_{c}") for c in ("x", "y", "z", "qx", "qy", "qz", "qw")]
+            self._u = [sp.Symbol(f"{name}_{c}") for c in ("vx", "vy", "vz", "wx", "wy", "wz")]
+        else:
+            self._q = [sp.Symbol(f"{name}_{c}") for c in ("x", "y", "z", "yaw", "pitch", "roll")]
+            self._u = [speed_symbol(x) for x in self._q]
 
     @property
     def coordinates(self):
@@ -179,17 +190,29 @@ class FreeFlyer(Joint):
         return [sp.Symbol(f"{s.name}dot") for s in self._u]
 
     def rotation(self) -> sp.Matrix:
-        """R(quaternion) as Pinocchio / Eigen compute it (for a unit quaternion)."""
+        """R(q): for a unit quaternion as Pinocchio / Eigen compute it, or Rz(ψ) Ry(θ) Rx(φ)."""
+        if self.parametrization == "euler":
+            yaw, pitch, roll = self._q[3:]
+            return (_axis_rotation(sp.Matrix([0, 0, 1]), yaw) * _axis_rotation(sp.Matrix([0, 1, 0]), pitch)
+                    * _axis_rotation(sp.Matrix([1, 0, 0]), roll))
         x, y, z, w = self._q[3:]
         return sp.Matrix([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
                           [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
                           [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
+    def angular_axes(self) -> list[sp.Matrix]:
+        """Euler: the world axes of ψ̇, θ̇, φ̇ (ω = ψ̇ e_z + θ̇ Rz e_y + φ̇ Rz Ry e_x)."""
+        yaw, pitch = self._q[3:5]
+        Rz = _axis_rotation(sp.Matrix([0, 0, 1]), yaw)
+        return [sp.Matrix([0, 0, 1]), Rz[:, 1], (Rz * _axis_rotation(sp.Matrix([0, 1, 0]), pitch))[:, 0]]
+
     def motion(self):
         return self.rotation(), sp.Matrix(self._q[:3])
 
     def qdot(self) -> list[sp.Expr]:
-        """ṗ = R v, (ẋ, ẏ, ż, ẇ) of the quaternion = ½ q ⊗ (ω, 0)."""
+        """Euler: q̇ = u. Quaternion: ṗ = R v, (ẋ, ẏ, ż, ẇ) of the quaternion = ½ q ⊗ (ω, 0)."""
+        if self.parametrization == "euler":
+            return self.speeds
         x, y, z, w = self._q[3:]
         v, (wx, wy, wz) = sp.Matrix(self._u[:3]), self._u[3:]
         p_dot = list(self.rotation() * v)
@@ -198,7 +221,7 @@ class FreeFlyer(Joint):
                         half * (-y * wx + x * wy + w * wz), half * (-x * wx - y * wy - z * wz)]
 
     def __repr__(self) -> str:
-        return f"FreeFlyer({self.name!r})"
+        return f"FreeFlyer({self.name!r}, parametrization={self.parametrization!r})"
 
 
 class Fixed(Joint):

@@ -95,10 +95,11 @@ def paths(name: str) -> tuple[Path, Path | None, bool]:
     return folder / urdf, (folder / srdf if srdf else None), floating
 
 
-def load(name: str) -> System:
+def load(name: str, base: str = "quaternion") -> System:
     """A robot of example-robot-data as a `System` (armature from its SRDF where it has rotor
-    parameters, as example-robot-data's own loader sets it)."""
+    parameters, as example-robot-data's own loader sets it); a floating base in `base`
+    parametrization ("quaternion" or "euler")."""
     urdf, srdf, floating = paths(name)
-    system = from_urdf(urdf, floating_base=floating, srdf=srdf)
+    system = from_urdf(urdf, floating_base=floating and base, srdf=srdf)
     system.name = name
     return system

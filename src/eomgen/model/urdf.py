@@ -29,7 +29,7 @@ def _matrix(a) -> list:
     return [[number(x) for x in row] for row in np.atleast_2d(np.asarray(a, float))]
 
 
-def _joint(jmodel, name: str, armature: float):
+def _joint(jmodel, name: str, armature: float, base: str = "quaternion"):
     """(eomgen joint, continuous) for one Pinocchio joint model; a clear error for the others."""
     kind = jmodel.shortname()
     rest = kind.removeprefix("JointModel")
@@ -41,7 +41,7 @@ def _joint(jmodel, name: str, armature: float):
     if rest in ("PX", "PY", "PZ"):
         return Prismatic(name, axis=_AXES[rest[-1]], armature=armature), False
     if rest == "FreeFlyer":
-        return FreeFlyer(name), False
+        return FreeFlyer(name, parametrization=base), False
     if rest == "PrismaticUnaligned":
         return Prismatic(name, axis=tuple(number(x) for x in jmodel.extract().axis), armature=armature), False
     raise ModelError(f"joint '{name}': unsupported joint type {kind} (eomgen models revolute, continuous, "
@@ -72,9 +72,10 @@ def parse_urdf(path, floating_base: bool = False, srdf=None):
     return model
 
 
-def from_pinocchio(model, gravity=None, strict: bool = True) -> System:
-    """A `System` equal to a Pinocchio model of revolute, continuous and prismatic joints
-    (`strict=False`: impossible inertias warn instead of raising)."""
+def from_pinocchio(model, gravity=None, strict: bool = True, base: str = "quaternion") -> System:
+    """A `System` equal to a Pinocchio model of revolute, continuous, prismatic and free-flyer joints
+    (`strict=False`: impossible inertias warn instead of raising; `base="euler"`: the free flyer in
+    ZYX Euler angles, for which Pinocchio has no counterpart)."""
     import pinocchio as pin
 
     system = System(gravity=tuple(number(x) for x in (model.gravity.linear if gravity is None else gravity)),
@@ -90,7 +91,7 @@ def from_pinocchio(model, gravity=None, strict: bool = True) -> System:
     continuous = []
     for i in range(1, model.njoints):
         name = model.names[i]
-        joint, is_continuous = _joint(model.joints[i], name, number(model.armature[model.joints[i].idx_v]))
+        joint, is_continuous = _joint(model.joints[i], name, number(model.armature[model.joints[i].idx_v]), base)
         inertia = model.inertias[i]
         M = model.jointPlacements[i]
         body_name = body_frame.get(i, f"{name}_body")
@@ -108,16 +109,20 @@ def from_pinocchio(model, gravity=None, strict: bool = True) -> System:
         system.add_frame(f.name, bodies[f.parentJoint],
                          Placement(rotation=_matrix(f.placement.rotation),
                                    translation=[number(x) for x in f.placement.translation]))
-    system.pinocchio_model = model
+    system.pinocchio_model = model if base == "quaternion" else None
     system.continuous = continuous
     return system
 
 
-def from_urdf(path, floating_base: bool = False, srdf=None, strict: bool = True) -> System:
-    """Import a URDF file (fixed base) with numeric parameters; frames are the URDF links and fixed
-    joints by name. Armature comes from the SRDF's rotor parameters when `srdf` is given. With
-    `strict=False` an inertia that is not physically possible is a warning, not an error."""
-    system = from_pinocchio(parse_urdf(path, floating_base, srdf), strict=strict)
+def from_urdf(path, floating_base: bool | str = False, srdf=None, strict: bool = True) -> System:
+    """Import a URDF file with numeric parameters; frames are the URDF links and fixed joints by name.
+    floating_base: False (fixed), True or "quaternion" (Pinocchio's free flyer), "euler" (ZYX angles).
+    Armature comes from the SRDF's rotor parameters when `srdf` is given. With `strict=False` an
+    inertia that is not physically possible is a warning, not an error."""
+    if floating_base not in (False, True, "quaternion", "euler"):
+        raise ModelError(f"floating_base must be False, True, 'quaternion' or 'euler', got {floating_base!r}")
+    base = floating_base if isinstance(floating_base, str) else "quaternion"
+    system = from_pinocchio(parse_urdf(path, bool(floating_base), srdf), strict=strict, base=base)
     system.source = str(path)
     return system
 
