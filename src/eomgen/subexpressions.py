@@ -117,6 +117,19 @@ class Subexpressions:
 
         return d(expr)
 
+    def substitute(self, expr, mapping: Mapping[sp.Symbol, sp.Expr]):
+        """expr with independent symbols replaced (q̇ → q̇(w), say), through the intermediates: every
+        intermediate that depends on them gets a new name."""
+        if isinstance(expr, sp.MatrixBase):
+            return expr.applyfunc(lambda e: self.substitute(e, mapping))
+        expr = sp.sympify(expr)
+        renamed: dict[sp.Symbol, sp.Expr] = dict(mapping)
+        for s in self.dependencies([expr]):
+            definition = self.definitions[s]
+            if definition.free_symbols & set(renamed):
+                renamed[s] = self.add(definition.xreplace(renamed))
+        return expr.xreplace(renamed)
+
     def inline(self, expr):
         """Substitute every intermediate by its definition: the closed form in q, u and parameters."""
         if isinstance(expr, sp.MatrixBase):

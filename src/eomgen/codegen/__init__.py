@@ -208,10 +208,55 @@ class NumericEoM:
         return N.T @ (self.M(q, params) @ np.asarray(ud, float) - self._h(q, u, tau_a, params))
 
 
-def codegen(eom: EquationsOfMotion, backend: str = "numpy") -> NumericEoM:
-    """Numeric functions of `eom` (backend "numpy")."""
+class NumericKane:
+    """Numeric Kane's equations: mass_matrix(q, w), forcing(q, w), qdot(q, w), dependent_speeds(q, w),
+    active_forces(q, w) in the independent speeds w, and `rhs(t, x)` for x = [q, w] (solve_ivp)."""
+
+    def __init__(self, kane) -> None:
+        self.kane = kane
+        self.nq, self.nv = len(kane.system.q), len(kane.independent)
+        self.params = sorted(kane.system.parameters, key=str)
+        writer = FunctionWriter(kane.subexpressions, {"q": list(kane.system.q), "u": list(kane.independent),
+                                                      "ud": [], "p": self.params})
+        self.functions: dict[str, Generated] = {}
+        for key in ("mass_matrix", "forcing", "qdot", "dependent_speeds", "F_r"):
+            source, shape, ops = writer.source("f", kane.compact[key], symmetric=key == "mass_matrix")
+            self.functions[key] = Generated(source, shape, ops, compile_function(source, key))
+
+    _p = NumericEoM._p
+
+    def _call(self, key, q, w, params):
+        f = self.functions[key]
+        return _call(f.function, f.shape, self.nq, self.nv, q, w, None, self._p(params, key))
+
+    def mass_matrix(self, q, w=None, params=None) -> np.ndarray:
+        return self._call("mass_matrix", q, w, params)
+
+    def forcing(self, q, w, params=None) -> np.ndarray:
+        return self._call("forcing", q, w, params)[..., 0]
+
+    def qdot(self, q, w, params=None) -> np.ndarray:
+        return self._call("qdot", q, w, params)[..., 0]
+
+    def dependent_speeds(self, q, w, params=None) -> np.ndarray:
+        return self._call("dependent_speeds", q, w, params)[..., 0]
+
+    def active_forces(self, q, w, params=None) -> np.ndarray:
+        return self._call("F_r", q, w, params)[..., 0]
+
+    def rhs(self, t, x, params=None) -> np.ndarray:
+        """d/dt [q, w] = [Γ w + Θ, M̃⁻¹ f̃]."""
+        q, w = x[:self.nq], x[self.nq:]
+        return np.concatenate([self.qdot(q, w, params),
+                               np.linalg.solve(self.mass_matrix(q, w, params), self.forcing(q, w, params))])
+
+
+def codegen(eom, backend: str = "numpy"):
+    """Numeric functions of an `EquationsOfMotion` (or of `KaneEquations`), backend "numpy"."""
     if backend not in BACKENDS:
         raise ModelError(f"unknown backend {backend!r}; available: {list(BACKENDS)}")
+    if hasattr(eom, "independent"):
+        return NumericKane(eom)
     return NumericEoM(eom)
 
 
