@@ -111,3 +111,12 @@ def test_bad_input():
         eg.kane(system, **{**args, "independent": [K.u1, sp.Symbol("v")]})
     with pytest.raises(eg.ModelError, match="kinematic equation 0 is not linear"):
         eg.kane(system, **{**args, "kinematic_equations": [K.u1 - x1d**2, K.u2 - x3d, K.u3 - x2d]})
+
+
+def test_example_runs(capsys):
+    import runpy
+    from pathlib import Path
+
+    runpy.run_path(str(Path(__file__).parents[1] / "examples" / "nonholonomic.py"), run_name="__main__")
+    out = capsys.readouterr().out
+    assert "through C: F̃_r = [0, 0]" in out and "through P: F̃_r = [0, F*l]" in out
