@@ -173,6 +173,26 @@ class NumericEoM:
             self.euler_singularity(q)
         return np.linalg.solve(self.M(q, params), self._h(q, u, tau_a, params)[..., None])[..., 0]
 
+    # --- DC motors (one state at a time) --------------------------------------------------------
+    def _value(self, expr, params) -> float:
+        by_name = {str(k): v for k, v in dict(params or {}).items()}
+        expr = sp.sympify(expr)
+        missing = [str(s) for s in expr.free_symbols if str(s) not in by_name]
+        if missing:
+            raise ModelError(f"values missing for the parameters {missing}")
+        return float(expr.xreplace({s: by_name[str(s)] for s in expr.free_symbols}))
+
+    def motor_rhs(self, t, x, params=None) -> np.ndarray:
+        """d/dt [q, u, i] for a system with DC motors (q̇ = u for joints): M u̇ = τ − b − g with the
+        motor torques N k i − N² f q̇, and L di/dt = U − R i − k N q̇ for each motor."""
+        motors = self.eom.system.motors
+        q, u, i = x[:self.nq], x[self.nq:self.nq + self.nv], x[self.nq + self.nv:]
+        p = {**{str(k): v for k, v in dict(params or {}).items()}, **{str(m.current): c for m, c in zip(motors, i)}}
+        di = [(self._value(m.voltage, p) - self._value(m.resistance, p) * c
+               - self._value(m.torque_constant * m.gear_ratio, p) * u[m.body.index]) / self._value(m.inductance, p)
+              for m, c in zip(motors, i)]
+        return np.concatenate([u, self.forward_dynamics(q, u, params=p), di])
+
     # --- contacts (one state at a time) --------------------------------------------------------
     def contact_jacobian(self, q, params=None) -> np.ndarray:
         """J_c: the stacked rows of the system's contacts (3 per point, 6 per frame contact)."""

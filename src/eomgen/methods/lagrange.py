@@ -5,14 +5,16 @@ v_S = ṙ_S, Ω_B = vee(Rᵀ Ṙ). Then
 
     T = Σ ½ mᵢ v_Sᵢᵀ v_Sᵢ + ½ Ω_Bᵢᵀ Θᵢ Ω_Bᵢ,     p = ∂T/∂u,     M = ∂p/∂u
     b = d/dt p |_(u̇=0) − ∂T/∂q,                  g = ∂U_gravity/∂q,  U_gravity = −Σ mᵢ g⃗ · r_Sᵢ
-    τ = ∂P/∂u − ∂U_spring/∂q − ∂D/∂u
-with P the power of the applied forces and torques and D the Rayleigh function of the dampers."""
+    τ = F · ∂v/∂u + T · ∂Ω/∂u − ∂U_spring/∂q − ∂D/∂u
+from the virtual power of the applied forces and torques (efforts held fixed) and the Rayleigh
+function D of the dampers."""
 from __future__ import annotations
 
 import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import TIME, Kinematics
+from ..linalg import dot
 from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
 from .applied import spring_potential, world
 
@@ -57,8 +59,9 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
             D = damper_dissipation(kin, load)
             tau = [-d_du(D, j) for j in range(n)]
         else:
-            P = power(kin, load)
-            tau = [d_du(P, j) for j in range(n)]
+            pairs = power(kin, load)
+            tau = [sum((dot(effort, flow.applyfunc(lambda e: d_du(e, j))) for effort, flow in pairs), sp.Integer(0))
+                   for j in range(n)]
         compact[f"tau:{load.name}"] = sp.Matrix(tau)
     compact["U"] = U
     return EquationsOfMotion(kin, "lagrange", compact)
@@ -84,23 +87,23 @@ def _length(kin: Kinematics, a: Point, b: Point) -> sp.Expr:
     return kin.sub.add(sp.sqrt((d.T * d)[0]))
 
 
-def power(kin: Kinematics, load) -> sp.Expr:
-    """P = F · v + T · Ω, linear in u (for the actuator: T · (Ω_a − Ω_b) + f ℓ̇)."""
+def power(kin: Kinematics, load) -> list[tuple[sp.Matrix, sp.Matrix]]:
+    """The virtual power P = F · v + T · Ω as (effort, flow) pairs, flows linear in u (actuator:
+    T · (Ω_a − Ω_b) + f ℓ̇). τ_j = Σ effort · ∂flow/∂u_j with the efforts held fixed, so forces that
+    depend on the speeds (a motor's friction) count once."""
     if isinstance(load, Force):
-        F = world(kin, load.force, load.point.body, load.in_body_frame)
-        return (F.T * _velocity(kin, load.point))[0]
+        return [(world(kin, load.force, load.point.body, load.in_body_frame), _velocity(kin, load.point))]
     if isinstance(load, Torque):
-        T = world(kin, load.torque, load.body, load.in_body_frame)
-        return (T.T * _angular_velocity_world(kin, load.body))[0]
+        return [(world(kin, load.torque, load.body, load.in_body_frame), _angular_velocity_world(kin, load.body))]
     if isinstance(load, Actuator):
-        P = sp.Integer(0)
+        pairs = []
         if load.torque is not None:
             T = world(kin, load.torque, load.a.body, load.in_body_frame)
-            P += (T.T * (_angular_velocity_world(kin, load.a.body)
-                         - _angular_velocity_world(kin, load.b.body)))[0]
+            pairs.append((T, _angular_velocity_world(kin, load.a.body) - _angular_velocity_world(kin, load.b.body)))
         if load.force is not None:
-            P += load.force * kin.time_derivative(sp.Matrix([_length(kin, load.a, load.b)]))[0]
-        return P
+            pairs.append((sp.Matrix([load.force]),
+                          kin.time_derivative(sp.Matrix([_length(kin, load.a, load.b)]))))
+        return pairs
     raise TypeError(f"unknown load type {type(load).__name__}")
 
 

@@ -71,3 +71,22 @@ class Damper:
     a: Point
     b: Point
     damping: sp.Expr
+
+
+@dataclass(frozen=True)
+class Motor:
+    """A DC motor driving a revolute joint through a gear of ratio N (motor angle = N q):
+    armature circuit L di/dt = U − R i − k N q̇, joint torque N k i − N² f q̇, rotor inertia
+    N² J_m at the joint (Pinocchio's armature). Electrical power U i goes into the magnetic energy
+    ½ L i², the mechanical power and the losses R i² + f (N q̇)²."""
+
+    name: str
+    body: object
+    current: sp.Symbol
+    voltage: sp.Expr
+    resistance: sp.Expr
+    inductance: sp.Expr
+    torque_constant: sp.Expr
+    rotor_inertia: sp.Expr
+    friction: sp.Expr
+    gear_ratio: sp.Expr

@@ -9,8 +9,8 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
-from .joints import Fixed, FreeFlyer, Joint, Placement, is_numeric, matrix3, vector3
-from .loads import Actuator, Damper, Force, Point, Spring, Torque
+from .joints import Fixed, FreeFlyer, Joint, Placement, Revolute, is_numeric, matrix3, vector3
+from .loads import Actuator, Damper, Force, Motor, Point, Spring, Torque
 
 
 @dataclass(eq=False)
@@ -61,6 +61,7 @@ class System:
         self.frames: dict[str, Frame] = {}
         self.loads: list = []
         self.contacts: list[Contact] = []
+        self.motors: list[Motor] = []
         self._bodies: dict[str, Body] = {}
 
     # --- coordinates -------------------------------------------------------------------------
@@ -246,6 +247,33 @@ class System:
                         None if force is None else sp.sympify(force), in_body_frame)
         self.loads.append(load)
         return load
+
+    def add_motor(self, body, *, resistance, inductance, torque_constant, rotor_inertia, friction=0,
+                  gear_ratio=1, voltage=None, name=None) -> Motor:
+        """A DC motor on the revolute joint of `body` (see `Motor`): adds N² J_m to the joint's
+        armature and the torque N k i − N² f q̇ between the body and its parent. Its current
+        i_<name> and voltage (default U_<name>) are parameters of the equations of motion."""
+        b = self.body(body)
+        if not isinstance(b.joint, Revolute):
+            raise ModelError(f"motor on body '{b.name}': a DC motor drives a revolute joint, "
+                             f"not {type(b.joint).__name__}")
+        name = name or f"motor_{b.joint.name}"
+        if any(m.name == name for m in self.motors):
+            raise ModelError(f"duplicate motor name '{name}'")
+        values = {k: _nonnegative(v, f"motor '{name}': {k}") for k, v in dict(
+            resistance=resistance, inductance=inductance, torque_constant=torque_constant,
+            rotor_inertia=rotor_inertia, friction=friction).items()}
+        N = sp.sympify(gear_ratio)
+        current = sp.Symbol(f"i_{name}")
+        motor = Motor(name, b, current, sp.Symbol(f"U_{name}") if voltage is None else sp.sympify(voltage),
+                      values["resistance"], values["inductance"], values["torque_constant"],
+                      values["rotor_inertia"], values["friction"], N)
+        b.joint.armature = b.joint.armature + N**2 * motor.rotor_inertia
+        qdot = b.joint.speeds[0]
+        torque = N * motor.torque_constant * current - N**2 * motor.friction * qdot
+        self.add_actuator(b, torque=b.joint.axis * torque, in_body_frame=True, name=name)
+        self.motors.append(motor)
+        return motor
 
     def add_spring(self, a, b, stiffness, rest_length=0, *, name=None) -> Spring:
         """Linear spring between points a and b (see `point`)."""

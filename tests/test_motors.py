@@ -1,0 +1,78 @@
+"""DC motors on the two-link arm of SEEDS.md §3: closed forms, reflected inertia as Pinocchio's
+armature, and the power balance of a simulated voltage step."""
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import eomgen as eg
+
+sys.path.insert(0, str(Path(__file__).parents[1] / "examples"))
+from two_link_dc_motors import NUMBERS, J_m, N, g, l1, lc1, lc2, m1, m2, I1, I2, simulate, two_link_arm  # noqa: E402
+
+
+@pytest.mark.parametrize("method", ["lagrange", "projected_newton_euler", "recursive", "free_cut"])
+def test_two_link_arm_closed_forms(method):
+    """M, C q̇ and G of the paper (angles from the horizontal)."""
+    system = two_link_arm()
+    q1, q2 = system.q
+    qd1, qd2 = system.u
+    eom = eg.derive(system, method=method)
+    M11 = I1 + I2 + m1 * lc1**2 + m2 * (l1**2 + lc2**2 + 2 * l1 * lc2 * sp.cos(q2))
+    M12 = I2 + m2 * (lc2**2 + l1 * lc2 * sp.cos(q2))
+    M = sp.Matrix([[M11, M12], [M12, I2 + m2 * lc2**2]])
+    h = -m2 * l1 * lc2 * sp.sin(q2)
+    Cqd = sp.Matrix([h * qd2 * (2 * qd1 + qd2), -h * qd1**2])
+    G = sp.Matrix([(m1 * lc1 + m2 * l1) * g * sp.cos(q1) + m2 * lc2 * g * sp.cos(q1 + q2),
+                   m2 * lc2 * g * sp.cos(q1 + q2)])
+    assert sp.simplify(eom.M - M) == sp.zeros(2, 2)
+    assert sp.simplify(eom.b - Cqd) == sp.zeros(2, 1)
+    assert sp.simplify(eom.g - G) == sp.zeros(2, 1)
+
+
+def test_motor_inertia_is_armature():
+    rigid, motors = eg.derive(two_link_arm()), eg.derive(two_link_arm(motors=True))
+    assert sp.simplify(motors.M - rigid.M - sp.diag(N**2 * J_m, N**2 * J_m)) == sp.zeros(2, 2)
+    # numerically, against Pinocchio with model.armature = N² J_m
+    system = two_link_arm(motors=True)
+    numbers = {s: NUMBERS[str(s)] for s in system.parameters if str(s) in NUMBERS}
+    numeric = eg.System(gravity=tuple(x.xreplace(numbers) for x in system.gravity))
+    parent = None
+    for b in system.bodies:
+        joint = eg.Revolute(b.joint.name, axis=(0, 0, 1), armature=b.joint.armature.xreplace(numbers))
+        parent = numeric.add_body(b.name, parent=parent, joint=joint, mass=b.mass.xreplace(numbers),
+                                  com=b.com.xreplace(numbers),
+                                  inertia=sp.diag(1, 1, 2) * b.inertia[2, 2].xreplace(numbers) / 2,  # planar: I_zz
+                                  placement=eg.Placement(translation=b.placement.translation.xreplace(numbers)))
+    report = eg.verify(numeric, method="lagrange", states=10)
+    assert report.ok(1e-10), str(report)
+    assert float(numeric.bodies[0].joint.armature) == pytest.approx(50.0**2 * 2e-5)
+
+
+def test_power_balance_of_a_voltage_step():
+    """U i = d/dt (T + U_g + ½ L i²) + R i² + f (N q̇)² along the simulation, to 1e-8 relative."""
+    sol, energy = simulate(1.0)
+    assert sol.success
+    balance = np.array([energy(x) - x[-1] for x in sol.y.T])
+    supplied = sol.y[-1, -1]
+    assert supplied > 1.0 and np.abs(sol.y[:2, -1] - sol.y[:2, 0]).max() > 0.5  # it moved, work was done
+    assert np.ptp(balance) < 1e-8 * supplied
+
+
+def test_motor_errors():
+    system = eg.System()
+    slider = system.add_body("slider", joint=eg.Prismatic("s"), mass=1)
+    with pytest.raises(eg.ModelError, match="motor on body 'slider': a DC motor drives a revolute joint"):
+        system.add_motor(slider, resistance=1, inductance=1, torque_constant=1, rotor_inertia=1)
+    arm = system.add_body("arm", parent=slider, joint=eg.Revolute("q"), mass=1)
+    with pytest.raises(eg.ModelError, match="resistance must be non-negative"):
+        system.add_motor(arm, resistance=-1, inductance=1, torque_constant=1, rotor_inertia=1)
+
+
+def test_example_runs(capsys):
+    import runpy
+
+    runpy.run_path(str(Path(__file__).parents[1] / "examples" / "two_link_dc_motors.py"), run_name="__main__")
+    assert "M with motors − M = [[J_m*N**2, 0], [0, J_m*N**2]]" in capsys.readouterr().out
