@@ -8,10 +8,10 @@ from .errors import ModelError
 from .kinematics import Kinematics
 from .methods import derive
 from .methods.kane import KaneEquations, kane
-from .model import Fixed, FreeFlyer, Placement, Prismatic, Revolute, System, from_urdf, robots
+from .model import Fixed, FlexibleLink, FreeFlyer, Placement, Prismatic, Revolute, System, from_urdf, robots
 from .state import integrate, random_states
 from .verify import verify
 
-__all__ = ["EquationsOfMotion", "KaneEquations", "Fixed", "FreeFlyer", "Kinematics", "ModelError", "Placement", "Prismatic",
+__all__ = ["EquationsOfMotion", "KaneEquations", "Fixed", "FlexibleLink", "FreeFlyer", "Kinematics", "ModelError", "Placement", "Prismatic",
            "Revolute", "System", "codegen", "derive", "from_urdf", "integrate", "kane", "random_states", "robots", "verify",
            "write_module"]

@@ -11,7 +11,7 @@ import sympy as sp
 
 from .errors import ModelError
 from .linalg import cross, dot, matmul, scale
-from .model import FreeFlyer, Placement, Prismatic, Revolute
+from .model import FlexibleLink, FreeFlyer, Placement, Prismatic, Revolute
 from .model.loads import Point
 from .model.system import Body, Frame, System
 from .subexpressions import Subexpressions
@@ -43,6 +43,10 @@ class Kinematics:
         parent = body.parent
         R_parent = self.R[parent] if parent else sp.eye(3)
         p_parent = self.p[parent] if parent else sp.zeros(3, 1)
+        if parent is not None and isinstance(parent.joint, FlexibleLink):  # children sit on the tip
+            R_tip, t_tip = parent.joint.tip()
+            p_parent = p_parent + matmul(R_parent, t_tip)
+            R_parent = self.sub.add_matrix(matmul(R_parent, R_tip))
         R_joint = self.sub.add_matrix(matmul(R_parent, body.placement.rotation))
         p_joint = p_parent + matmul(R_parent, body.placement.translation)
         R_q, t_q = body.joint.motion()

@@ -4,9 +4,10 @@ from __future__ import annotations
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..kinematics import Kinematics
-from ..model import FreeFlyer
+from ..model import FlexibleLink, FreeFlyer
 from ..model.system import System
 from . import free_cut, lagrange, projected_newton_euler, recursive
+from .flexible import flexible_mass
 
 METHODS = {
     "free_cut": free_cut.derive,
@@ -35,7 +36,9 @@ def derive(system: System, method: str = "projected_newton_euler") -> EquationsO
             raise ModelError(f"joint '{joint.name}': method {method!r} does not handle a "
                              f"{joint.parametrization} free-flyer base; use 'projected_newton_euler'"
                              + (" or 'lagrange'" if euler else " or 'recursive'"))
-    total = sum((b.mass for b in system.bodies), 0)
+    if method != "lagrange" and any(isinstance(j, FlexibleLink) for j in system.joints):
+        raise ModelError(f"method {method!r} does not handle flexible links; use 'lagrange'")
+    total = sum((b.mass for b in system.bodies), 0) + flexible_mass(system)
     if total == 0:
         raise ModelError("the total mass of the system is zero: M would be singular")
     return METHODS[method](Kinematics(system))

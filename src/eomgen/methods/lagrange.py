@@ -16,6 +16,8 @@ from ..eom import EquationsOfMotion
 from ..kinematics import TIME, Kinematics
 from ..linalg import dot
 from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
+from . import flexible
+from ..model import FlexibleLink
 from .applied import spring_potential, world
 
 
@@ -43,6 +45,13 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
                                + (Omega_B.T * body.inertia * Omega_B)[0] / 2))
     T_parts += [body.joint.armature * u[body.index] ** 2 / 2 for body in system.bodies
                 if body.index is not None and body.joint.armature != 0]  # rotors: ½ I_a u_i²
+    U_elastic = []
+    for body in system.bodies:
+        if isinstance(body.joint, FlexibleLink):
+            T_flex, U_flex, U_el = flexible.energies(kin, body)
+            T_parts.append(T_flex)
+            U_gravity += U_flex
+            U_elastic.append(U_el)
     T = sp.Add(*T_parts)
     p = [sub.add(d_du(T, j)) for j in range(n)]
     M = sp.Matrix(n, n, lambda i, j: d_du(p[i], j))
@@ -50,6 +59,10 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
     g = sp.Matrix([d_dq(U_gravity, i) for i in range(n)])
     compact = {"M": M, "b": b, "g": g, "T": T}
     U = U_gravity
+    if U_elastic:  # bending: U_e enters like a spring, as a generalized force −∂U_e/∂q
+        U_e = sub.add(sp.Add(*U_elastic))
+        U += U_e
+        compact["tau:elastic"] = sp.Matrix([-d_dq(U_e, j) for j in range(n)])
     for load in system.loads:
         if isinstance(load, Spring):
             U_s = sub.add(spring_potential(kin, load))

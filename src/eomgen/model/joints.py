@@ -224,6 +224,41 @@ class FreeFlyer(Joint):
         return f"FreeFlyer({self.name!r}, parametrization={self.parametrization!r})"
 
 
+class FlexibleLink(Joint):
+    """A planar flexible link on a revolute joint about its z axis: an Euler-Bernoulli beam of length L
+    along the body's x axis, mass per length m and bending stiffness E I, deflecting along y, split
+    into n elements with Hermite cubic shape functions. Coordinates: the joint angle θ, then the
+    deflection and slope of nodes 2 … n+1 (node 1 is clamped to the joint). Children attach to the
+    tip frame: translated by (L, w_tip) and turned by the tip slope. Lagrange II only."""
+
+    def __init__(self, name, length, mass_per_length, EI, elements: int = 1, *, actuated: bool = True) -> None:
+        super().__init__(name, axis=(0, 0, 1), actuated=actuated)
+        if not isinstance(elements, int) or elements < 1:
+            raise ModelError(f"joint '{self.name}': elements must be a positive integer, got {elements!r}")
+        self.length, self.mass_per_length, self.EI = (sp.sympify(x) for x in (length, mass_per_length, EI))
+        for label, value in (("length", self.length), ("mass_per_length", self.mass_per_length), ("EI", self.EI)):
+            if value.is_nonpositive:
+                raise ModelError(f"joint '{self.name}': {label} must be positive, got {value}")
+        self.elements = elements
+        self.nodal = [sp.Symbol(f"{kind}{k}_{self.name}") for k in range(2, elements + 2) for kind in ("w", "s")]
+
+    @property
+    def dof(self) -> int:
+        return 1 + len(self.nodal)
+
+    @property
+    def coordinates(self):
+        return [self.q, *self.nodal]
+
+    def motion(self):
+        return _axis_rotation(self.axis, self.q), sp.zeros(3, 1)
+
+    def tip(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """(R, t) of the tip frame in the link frame: turned by the tip slope, at (L, w_tip)."""
+        w, s = self.nodal[-2:]
+        return _axis_rotation(self.axis, s), sp.Matrix([self.length, w, 0])
+
+
 class Fixed(Joint):
     """No motion: the body is welded to its parent."""
 
