@@ -62,6 +62,11 @@ class KaneEquations:
         """F̃_r: the nonholonomic generalized active forces (static equilibrium iff they vanish)."""
         return self._closed_form("F_r")
 
+    def inertia_forces(self) -> sp.Matrix:
+        """F̃*_r = −M̃ ẇ_ind + (f̃ − F̃_r), in the symbols of ẇ_ind (w + 'dot')."""
+        wdot = sp.Matrix([sp.Symbol(f"{w.name}dot") for w in self.independent])
+        return -self.mass_matrix * wdot + self.forcing - self.active_forces
+
     @property
     def qdot(self) -> sp.Matrix:
         """The kinematic differential equations q̇ = Γ w_ind + Θ."""
