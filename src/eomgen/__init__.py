@@ -2,7 +2,7 @@
 derived by several methods and turned into verified numeric code."""
 __version__ = "0.1.0"
 
-from .codegen import codegen, write_module
+from .codegen import codegen, write_c, write_module
 from .eom import EquationsOfMotion
 from .errors import ModelError
 from .kinematics import Kinematics
@@ -14,4 +14,4 @@ from .verify import verify
 
 __all__ = ["EquationsOfMotion", "KaneEquations", "Fixed", "FlexibleLink", "FreeFlyer", "Kinematics", "ModelError", "Placement", "Prismatic",
            "Revolute", "System", "codegen", "derive", "from_urdf", "integrate", "kane", "random_states", "robots", "verify",
-           "write_module"]
+           "write_c", "write_module"]

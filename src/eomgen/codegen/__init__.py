@@ -16,9 +16,10 @@ from .contacts import contact_dynamics, row_names, support_projector
 from .numpy_backend import FunctionWriter, compile_function
 from .runtime import runtime_namespace
 
-_call = runtime_namespace()["_call"]
+_runtime = runtime_namespace()
+_call, _inputs = _runtime["_call"], _runtime["_inputs"]
 
-BACKENDS = ("numpy",)
+BACKENDS = ("numpy", "c")
 
 
 @dataclass
@@ -272,12 +273,18 @@ class NumericKane:
 
 
 def codegen(eom, backend: str = "numpy"):
-    """Numeric functions of an `EquationsOfMotion` (or of `KaneEquations`), backend "numpy"."""
+    """Numeric functions of an `EquationsOfMotion` (or of `KaneEquations`): backend "numpy", or "c"
+    (compiled with the machine's C compiler; same functions, per call and batched)."""
     if backend not in BACKENDS:
         raise ModelError(f"unknown backend {backend!r}; available: {list(BACKENDS)}")
     if hasattr(eom, "independent"):
         return NumericKane(eom)
+    if backend == "c":
+        from .c_backend import CompiledEoM
+
+        return CompiledEoM(eom)
     return NumericEoM(eom)
 
 
 from .module import module_source, write_module  # noqa: E402  (module builds on NumericEoM)
+from .c_backend import write_c  # noqa: E402

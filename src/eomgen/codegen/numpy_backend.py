@@ -9,16 +9,40 @@ Generated names are ours (_q0, _u0, _ud0, _p0, _x0, ...): no text of the model (
 symbol names) is ever printed into the source, so running it can do nothing but arithmetic."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import sympy as sp
 
 from ..subexpressions import Subexpressions
+
+@dataclass(frozen=True)
+class Syntax:
+    """How one language writes a generated function."""
+
+    header: str
+    input: str
+    assign: str
+    out: str
+    mirror: str
+    footer: str
+    power: str
+
+
+PYTHON = Syntax(header="def {name}(q, u, ud, p, out, sin, cos, sqrt):", input="    {var} = {arg}[{k}]",
+                assign="    {var} = {expr}", out="    out[{i}, {j}] = {expr}",
+                mirror="    out[{j}, {i}] = out[{i}, {j}]", footer="    return out", power="({b}**{e})")
+C = Syntax(header="void {name}(const double *q, const double *u, const double *ud, const double *p, double *out)\n{{",
+           input="    const double {var} = {arg}[{k}];", assign="    const double {var} = {expr};",
+           out="    out[{ij}] = {expr};", mirror="    out[{ji}] = out[{ij}];", footer="}}", power="pow({b}, {e})")
+
 
 class Printer:
     """A small printer for the expressions eomgen builds (sums, products, powers, sin, cos, sqrt),
     counting the floating-point operations it writes."""
 
-    def __init__(self, names: dict[sp.Symbol, str]) -> None:
+    def __init__(self, names: dict[sp.Symbol, str], syntax: Syntax = PYTHON) -> None:
         self.names = names
+        self.syntax = syntax
         self.ops = 0
 
     def __call__(self, e: sp.Expr) -> str:
@@ -56,7 +80,7 @@ class Printer:
                 self.ops += 1
                 return f"(1.0/{self(base)})"
             self.ops += 1
-            return f"({self(base)}**{self(exp)})"
+            return self.syntax.power.format(b=self(base), e=self(exp))
         if isinstance(e, (sp.sin, sp.cos)):
             self.ops += 1
             return f"{type(e).__name__}({self(e.args[0])})"
@@ -66,24 +90,24 @@ class Printer:
 class FunctionWriter:
     """Writes functions of one set of sub-results; each definition is printed once for all of them."""
 
-    def __init__(self, sub: Subexpressions, inputs: dict[str, list[sp.Symbol]]) -> None:
-        self.sub, self.inputs = sub, inputs
+    def __init__(self, sub: Subexpressions, inputs: dict[str, list[sp.Symbol]], syntax: Syntax = PYTHON) -> None:
+        self.sub, self.inputs, self.syntax = sub, inputs, syntax
         names = {s: f"_{arg}{k}" for arg, symbols in inputs.items() for k, s in enumerate(symbols)}
         self.trig = {f(s): f"_{f.__name__}_{arg}{k}" for arg, symbols in inputs.items()
                      for k, s in enumerate(symbols) for f in (sp.sin, sp.cos)}
-        self.printer = Printer({**names, **self.trig})
+        self.printer = Printer({**names, **self.trig}, syntax)
         self._lines: dict[sp.Symbol, tuple[str, int]] = {}
 
     def _line(self, s: sp.Symbol) -> tuple[str, int]:
         if s not in self._lines:
             before = self.printer.ops
-            text = f"    {self.printer.names[s]} = {self.printer(self.sub.definitions[s])}"
+            text = self.syntax.assign.format(var=self.printer.names[s], expr=self.printer(self.sub.definitions[s]))
             self._lines[s] = (text, self.printer.ops - before)
         return self._lines[s]
 
     def source(self, name: str, outputs: sp.Basic, symmetric: bool = False) -> tuple[str, tuple, int]:
-        """(source of `def name(q, u, ud, p, out, sin, cos, sqrt)`, output shape, operation count). With `symmetric`
-        only the upper triangle is computed and mirrored."""
+        """(source of function `name`(q, u, ud, p, out[, sin, cos, sqrt]), output shape, operation count).
+        With `symmetric` only the upper triangle is computed and mirrored."""
         for k, s in enumerate(self.sub.definitions):  # intermediates added since the last call
             self.printer.names.setdefault(s, f"_x{k}")
         matrix = outputs if isinstance(outputs, sp.MatrixBase) else sp.Matrix([[outputs]])
@@ -95,12 +119,13 @@ class FunctionWriter:
                            *(e.free_symbols for e in exprs))
         trig = set().union(*(self.sub.definitions[s].atoms(sp.sin, sp.cos) for s in needed),
                            *(e.atoms(sp.sin, sp.cos) for e in exprs)) & set(self.trig)
-        lines = [f"def {name}(q, u, ud, p, out, sin, cos, sqrt):"]
+        syntax = self.syntax
+        lines = [syntax.header.format(name=name)]
         for arg, symbols in self.inputs.items():
-            lines += [f"    _{arg}{k} = {arg}[{k}]" for k, s in enumerate(symbols) if s in used]
+            lines += [syntax.input.format(var=f"_{arg}{k}", arg=arg, k=k) for k, s in enumerate(symbols) if s in used]
         ops = len(trig)
         for t in sorted(trig, key=lambda t: self.trig[t]):
-            lines.append(f"    {self.trig[t]} = {type(t).__name__}({self.printer.names[t.args[0]]})")
+            lines.append(syntax.assign.format(var=self.trig[t], expr=f"{type(t).__name__}({self.printer.names[t.args[0]]})"))
         for s in needed:
             text, n = self._line(s)
             lines.append(text)
@@ -108,11 +133,11 @@ class FunctionWriter:
         for (i, j), e in zip(cells, exprs):
             if e != 0:
                 before = self.printer.ops
-                lines.append(f"    out[{i}, {j}] = {self.printer(e)}")
+                lines.append(syntax.out.format(i=i, j=j, ij=i * cols + j, expr=self.printer(e)))
                 ops += self.printer.ops - before
                 if symmetric and i != j:
-                    lines.append(f"    out[{j}, {i}] = out[{i}, {j}]")
-        lines.append("    return out")
+                    lines.append(syntax.mirror.format(i=i, j=j, ij=i * cols + j, ji=j * cols + i))
+        lines.append(syntax.footer.format())
         return "\n".join(lines) + "\n", (rows, cols), ops
 
 

@@ -2,8 +2,8 @@
 verbatim into generated modules (which need only numpy)."""
 
 RUNTIME = '''
-def _call(f, shape, nq, nv, q, u=None, ud=None, p=()):
-    """Evaluate generated function f at one state (q of shape (nq,), u of shape (nv,)) or N states."""
+def _inputs(nq, nv, q, u=None, ud=None):
+    """q, u, u̇ as float arrays (one state or N along axis 0), checked; and the batch shape."""
     q = numpy.asarray(q, dtype=float)
     if q.ndim not in (1, 2) or q.shape[-1] != nq:
         raise ValueError("q: expected shape (%d,) or (N, %d), got %s" % (nq, nq, q.shape))
@@ -17,6 +17,12 @@ def _call(f, shape, nq, nv, q, u=None, ud=None, p=()):
     for name, x in zip(("q", "u", "ud"), args):
         if not numpy.all(numpy.isfinite(x)):
             raise ValueError(name + ": contains NaN or infinite values")
+    return args, batch
+
+
+def _call(f, shape, nq, nv, q, u=None, ud=None, p=()):
+    """Evaluate generated function f at one state (q of shape (nq,), u of shape (nv,)) or N states."""
+    args, batch = _inputs(nq, nv, q, u, ud)
     p = [float(x) for x in p]
     if not batch:
         return f(*[x.tolist() for x in args], p, numpy.zeros(shape), math.sin, math.cos, math.sqrt)
@@ -26,7 +32,7 @@ def _call(f, shape, nq, nv, q, u=None, ud=None, p=()):
 
 
 def runtime_namespace() -> dict:
-    """A namespace holding `_call`, as a generated module has it."""
+    """A namespace holding `_inputs` and `_call`, as a generated module has them."""
     import math
 
     import numpy
