@@ -1,9 +1,9 @@
 """eomgen on the robots of example-robot-data beside Pinocchio, in one run.
 
 Per robot: derivation and code generation time, operations of the generated M, b, g, the per-call
-time of the NumPy backend's M, b, g from Python beside Pinocchio's crba, nonLinearEffects and
-computeGeneralizedGravity from Python, and the batched time for N states beside a Python loop over
-Pinocchio. Prints a table and writes JSON.
+time of the NumPy and C backends' M, b, g from Python beside Pinocchio's crba, nonLinearEffects and
+computeGeneralizedGravity from Python, and the batched time per state (NumPy for N states, C for 10 N)
+beside a Python loop over Pinocchio. Prints a table and writes JSON.
 
 Run: python benchmarks/robots.py [names ...] [--method recursive] [--batch 10000] [--out ...]"""
 from __future__ import annotations
@@ -57,6 +57,15 @@ def bench(name: str, batch: int, method: str) -> dict:
         pin.crba(model, data, qp[k]), pin.nonLinearEffects(model, data, qp[k], u[k])
         pin.computeGeneralizedGravity(model, data, qp[k])
     row["pin_loop_us_per_state"] = (time.perf_counter() - t) / batch * 1e6
+    t = time.perf_counter()
+    fc = eg.codegen(eom, backend="c")
+    row["c_compile_s"] = time.perf_counter() - t
+    for key, call in (("M", lambda: fc.M(q0)), ("b", lambda: fc.b(q0, u0)), ("g", lambda: fc.g(q0))):
+        row[f"c_{key}_us"] = per_call(call, number=2000) * 1e6
+    big_q, big_u, _ = eg.random_states(system, 10 * batch, rng)
+    t = time.perf_counter()
+    fc.M(big_q), fc.b(big_q, big_u), fc.g(big_q)
+    row["c_batch_us_per_state"] = (time.perf_counter() - t) / (10 * batch) * 1e6
     return row
 
 
@@ -69,7 +78,8 @@ def main() -> None:
     args = ap.parse_args()
     print(f"{'robot':26s} {'nq':>3s} {'derive':>7s} {'gen':>6s} {'ops M':>7s} {'ops b':>7s} {'ops g':>6s} "
           f"{'M µs':>7s} {'pin':>6s} {'b µs':>7s} {'pin':>6s} {'g µs':>7s} {'pin':>6s} "
-          f"{'batch µs/state':>15s} {'pin loop':>9s} {'speed-up':>8s}")
+          f"{'batch µs/state':>15s} {'pin loop':>9s} {'speed-up':>8s} "
+          f"{'C M':>6s} {'C b':>6s} {'C g':>6s} {'C batch':>8s} {'C vs loop':>9s}")
     rows = []
     for name in args.names:
         r = bench(name, args.batch, args.method)
@@ -77,7 +87,9 @@ def main() -> None:
         print(f"{name:26s} {r['nq']:3d} {r['derive_s']:6.2f}s {r['codegen_s']:5.2f}s {r['ops_M']:7d} {r['ops_b']:7d} "
               f"{r['ops_g']:6d} {r['M_us']:7.1f} {r['pin_M_us']:6.1f} {r['b_us']:7.1f} {r['pin_b_us']:6.1f} "
               f"{r['g_us']:7.1f} {r['pin_g_us']:6.1f} {r['batch_us_per_state']:15.2f} {r['pin_loop_us_per_state']:9.2f} "
-              f"{r['pin_loop_us_per_state'] / r['batch_us_per_state']:7.1f}x", flush=True)
+              f"{r['pin_loop_us_per_state'] / r['batch_us_per_state']:7.1f}x "
+              f"{r['c_M_us']:6.1f} {r['c_b_us']:6.1f} {r['c_g_us']:6.1f} {r['c_batch_us_per_state']:8.3f} "
+              f"{r['pin_loop_us_per_state'] / r['c_batch_us_per_state']:8.1f}x", flush=True)
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps({"benchmark": "robots", "machine": platform.platform(), "pinocchio": pin.__version__,

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import ctypes
 import hashlib
+import math
 import os
 import re
 import shutil
@@ -70,6 +71,7 @@ class CompiledEoM(NumericEoM):
 
     def __init__(self, eom: EquationsOfMotion) -> None:
         compiler()  # a clear error before any work
+        self._buffers: dict = {}
         self._c = FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u),
                                                        "ud": list(eom.system.ud),
                                                        "p": sorted(eom.system.parameters, key=str)}, C)
@@ -84,6 +86,8 @@ class CompiledEoM(NumericEoM):
 
     def call(self, key, q, u=None, ud=None, params=None) -> np.ndarray:
         f = self.functions[key]
+        if params is None and np.ndim(q) == 1:  # one state: persistent buffers, one ctypes call
+            return self._single(key, f, q, u, ud)
         (q, u, ud), batch = _inputs(self.nq, self.nv, q, u, ud)
         q, u, ud = (np.ascontiguousarray(x) for x in (q, u, ud))
         p = np.array(self._p(params, key), dtype=float)
@@ -94,6 +98,25 @@ class CompiledEoM(NumericEoM):
         else:
             f.function.f(*pointers)
         return out
+
+    def _single(self, key, f, q, u, ud) -> np.ndarray:
+        buffers = self._buffers.get(key)
+        if buffers is None:
+            arrays = [np.zeros(self.nq), np.zeros(self.nv), np.zeros(self.nv),
+                      np.array(self._p(None, key), dtype=float), np.zeros(f.shape)]
+            buffers = self._buffers[key] = (arrays, [a.ctypes.data for a in arrays])
+        (qb, ub, udb, _, out), pointers = buffers
+        try:
+            qb[:] = q
+            ub[:] = 0.0 if u is None else u
+            udb[:] = 0.0 if ud is None else ud
+        except (ValueError, TypeError):
+            _inputs(self.nq, self.nv, q, u, ud)  # raises the error that names the argument
+            raise
+        if not math.isfinite(qb.dot(qb) + ub.dot(ub) + udb.dot(udb)):
+            _inputs(self.nq, self.nv, q, u, ud)
+        f.function.f(*pointers)  # writes only the nonzero entries; the others stay 0
+        return out.copy()
 
 
 def write_c(eom: EquationsOfMotion, directory, name: str = "eom", frames: list[str] | None = None) -> tuple[Path, Path]:
