@@ -63,9 +63,12 @@ def bench(name: str, batch: int, method: str) -> dict:
     for key, call in (("M", lambda: fc.M(q0)), ("b", lambda: fc.b(q0, u0)), ("g", lambda: fc.g(q0))):
         row[f"c_{key}_us"] = per_call(call, number=2000) * 1e6
     big_q, big_u, _ = eg.random_states(system, 10 * batch, rng)
-    t = time.perf_counter()
-    fc.M(big_q), fc.b(big_q, big_u), fc.g(big_q)
-    row["c_batch_us_per_state"] = (time.perf_counter() - t) / (10 * batch) * 1e6
+    best = float("inf")
+    for _ in range(3):  # the first pass also pays for touching fresh output memory
+        t = time.perf_counter()
+        fc.M(big_q), fc.b(big_q, big_u), fc.g(big_q)
+        best = min(best, time.perf_counter() - t)
+    row["c_batch_us_per_state"] = best / (10 * batch) * 1e6
     return row
 
 
