@@ -52,6 +52,8 @@ class EquationsOfMotion:
         return sp.Matrix([sp.Symbol(f"tau_{j.name}") for j in self.system.joints if j.actuated])
 
     def _closed_form(self, name: str):
+        if name not in self.compact:
+            raise ModelError(f"{name} was not derived (quantities {sorted(k for k in self.compact if ':' not in k)})")
         if name not in self._closed:
             self._closed[name] = self.subexpressions.inline(self.compact[name])
         return self._closed[name]

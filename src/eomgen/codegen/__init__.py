@@ -51,8 +51,9 @@ class NumericEoM:
                                                            "ud": list(eom.system.ud), "p": self.params})
         self.functions: dict[str, Generated] = {}
         for name in ("M", "b", "g", "tau", "T", "U"):
-            self._function(name, lambda name=name: eom.tau_compact if name == "tau" else eom.compact[name],
-                           symmetric=name == "M")
+            if name == "tau" or name in eom.compact:  # derive(quantities=...) may leave some out
+                self._function(name, lambda name=name: eom.tau_compact if name == "tau" else eom.compact[name],
+                               symmetric=name == "M")
 
     @property
     def sources(self) -> dict[str, str]:
@@ -83,6 +84,8 @@ class NumericEoM:
 
     def call(self, key: str, q, u=None, ud=None, params=None) -> np.ndarray:
         """Evaluate generated function `key` at q, u, u̇ (one state, or N states along axis 0)."""
+        if key not in self.functions:
+            raise ModelError(f"{key} was not derived: derive it (quantities=...) to evaluate it")
         f = self.functions[key]
         return _call(f.function, f.shape, self.nq, self.nv, q, u, ud, self._p(params, key))
 

@@ -85,6 +85,8 @@ class CompiledEoM(NumericEoM):
         return self.functions[key]
 
     def call(self, key, q, u=None, ud=None, params=None) -> np.ndarray:
+        if key not in self.functions:
+            raise ModelError(f"{key} was not derived: derive it (quantities=...) to evaluate it")
         f = self.functions[key]
         if params is None and np.ndim(q) == 1:  # one state: persistent buffers, one ctypes call
             return self._single(key, f, q, u, ud)

@@ -17,10 +17,12 @@ METHODS = {
 }
 
 
-def derive(system: System, method: str = "projected_newton_euler") -> EquationsOfMotion:
+def derive(system: System, method: str = "projected_newton_euler", quantities=None) -> EquationsOfMotion:
     """Equations of motion M u̇ + b + g = τ + Sᵀ τ_a of `system` by `method`
     ("projected_newton_euler" (default), "lagrange", "free_cut", or "recursive": the body-frame
-    composite-rigid-body and recursive Newton-Euler algorithms, which give the cheapest code)."""
+    composite-rigid-body and recursive Newton-Euler algorithms, which give the cheapest code).
+    `quantities`, a subset of ("M", "b", "g") (method "recursive"): derive only those, e.g. ("g",)
+    for gravity compensation."""
     if not isinstance(system, System):
         raise TypeError(f"derive expects an eomgen.System, got {type(system).__name__}")
     if method not in METHODS:
@@ -41,4 +43,10 @@ def derive(system: System, method: str = "projected_newton_euler") -> EquationsO
     total = sum((b.mass for b in system.bodies), 0) + flexible_mass(system)
     if total == 0:
         raise ModelError("the total mass of the system is zero: M would be singular")
+    if quantities is not None:
+        wrong = sorted(set(quantities) - {"M", "b", "g"})
+        if wrong or method != "recursive":
+            raise ModelError(f"quantities: a subset of ('M', 'b', 'g') with method 'recursive'; got {quantities!r} "
+                             f"with {method!r}")
+        return recursive.derive(Kinematics(system), tuple(quantities))
     return METHODS[method](Kinematics(system))

@@ -24,7 +24,7 @@ from ..model import FreeFlyer, Prismatic, Revolute
 from .applied import add_armature, generalized_force, potential_energy
 
 
-def derive(kin: Kinematics) -> EquationsOfMotion:
+def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     system, sub, n = kin.system, kin.sub, kin.n
     bodies = system.bodies
     zero = sp.zeros(3, 1)
@@ -77,43 +77,52 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
                 tau[b.index] = dot(b.joint.axis, F[b] if isinstance(b.joint, Prismatic) else N[b])
         return tau
 
-    # CRBA: composite inertias from the leaves, then each joint's column up to the root
-    comp = {}
-    for b in reversed(bodies):
-        m, c = b.mass, b.com
-        h = scale(m, c)
-        I_O = b.inertia + scale(m, dot(c, c) * sp.eye(3) - matmul(c, c.T))
-        for ch in children[b]:
-            m_c, h_c, I_c = comp[ch]
-            R, t = X[ch]
-            Rh = sub.add_matrix(matmul(R, h_c))
-            m = m + m_c
-            h = h + Rh + scale(m_c, t)
-            I_O = (I_O + matmul(matmul(R, I_c), R.T) + scale(m_c, dot(t, t) * sp.eye(3) - matmul(t, t.T))
-                   + 2 * dot(t, Rh) * sp.eye(3) - matmul(t, Rh.T) - matmul(Rh, t.T))
-        comp[b] = (sub.add(m), sub.add_matrix(h), _symmetric(sub, I_O))
-    M = sp.zeros(n, n)
-    for b in bodies:
-        if b.index is None:
-            continue
-        m, h, I_O = comp[b]
-        for j, kind, a in _motions(b):  # the momentum of a unit speed u_j
-            if kind == "R":
-                lin, ang = sub.add_matrix(cross(a, h)), sub.add_matrix(matmul(I_O, a))
-            else:
-                lin, ang = sub.add_matrix(scale(m, a)), sub.add_matrix(cross(h, a))
-            k = b
-            while k is not None:
-                for i, kind_k, a_k in _motions(k):
-                    if i <= j:
-                        M[i, j] = M[j, i] = dot(a_k, lin if kind_k == "P" else ang)
-                if k.parent is not None:
-                    lin, ang = up(k, lin, ang)
-                k = k.parent
-    add_armature(kin, M)
+    def crba() -> sp.Matrix:
+        # CRBA: composite inertias from the leaves, then each joint's column up to the root
+        comp = {}
+        for b in reversed(bodies):
+            m, c = b.mass, b.com
+            h = scale(m, c)
+            I_O = b.inertia + scale(m, dot(c, c) * sp.eye(3) - matmul(c, c.T))
+            for ch in children[b]:
+                m_c, h_c, I_c = comp[ch]
+                R, t = X[ch]
+                Rh = sub.add_matrix(matmul(R, h_c))
+                m = m + m_c
+                h = h + Rh + scale(m_c, t)
+                I_O = (I_O + matmul(matmul(R, I_c), R.T) + scale(m_c, dot(t, t) * sp.eye(3) - matmul(t, t.T))
+                       + 2 * dot(t, Rh) * sp.eye(3) - matmul(t, Rh.T) - matmul(Rh, t.T))
+            comp[b] = (sub.add(m), sub.add_matrix(h), _symmetric(sub, I_O))
+        M = sp.zeros(n, n)
+        for b in bodies:
+            if b.index is None:
+                continue
+            m, h, I_O = comp[b]
+            for j, kind, a in _motions(b):  # the momentum of a unit speed u_j
+                if kind == "R":
+                    lin, ang = sub.add_matrix(cross(a, h)), sub.add_matrix(matmul(I_O, a))
+                else:
+                    lin, ang = sub.add_matrix(scale(m, a)), sub.add_matrix(cross(h, a))
+                k = b
+                while k is not None:
+                    for i, kind_k, a_k in _motions(k):
+                        if i <= j:
+                            M[i, j] = M[j, i] = dot(a_k, lin if kind_k == "P" else ang)
+                    if k.parent is not None:
+                        lin, ang = up(k, lin, ang)
+                    k = k.parent
+        add_armature(kin, M)
+        return M
+
     u = sp.Matrix(kin.u)
-    compact = {"M": M, "b": rnea(kin.u, zero), "g": rnea([0] * n, system.gravity),
-               "T": dot(u, matmul(M, u)) / 2, "U": potential_energy(kin)}
+    compact = {"U": potential_energy(kin)}  # only what is asked: g alone needs one gravity pass
+    if "M" in quantities:
+        M = compact["M"] = crba()
+        compact["T"] = dot(u, matmul(M, u)) / 2
+    if "b" in quantities:
+        compact["b"] = rnea(kin.u, zero)
+    if "g" in quantities:
+        compact["g"] = rnea([0] * n, system.gravity)
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "recursive", compact)

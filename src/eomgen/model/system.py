@@ -289,6 +289,34 @@ class System:
         self.loads.append(load)
         return load
 
+    def reduced(self, lock: dict) -> "System":
+        """A copy with the joints in `lock` (joint name → value) welded at those values: the joint's
+        motion becomes part of the body's placement (as Pinocchio's buildReducedModel does)."""
+        names = {j.name for j in self.joints}
+        unknown = sorted(set(lock) - names)
+        if unknown:
+            raise ModelError(f"reduced: unknown joints {unknown}; joints are {sorted(names)}")
+        if self.loads or self.contacts or self.motors:
+            raise ModelError("reduced: loads, contacts and motors are not carried over; add them to the reduced system")
+        new = System(gravity=self.gravity, strict=self.strict)
+        for b in self.bodies:
+            joint, placement = b.joint, b.placement
+            if joint.name in lock:
+                if len(joint.coordinates) != 1:
+                    raise ModelError(f"reduced: joint '{joint.name}' has {len(joint.coordinates)} coordinates; "
+                                     "only one-coordinate joints can be locked")
+                R_q, t_q = (m.xreplace({joint.q: sp.sympify(lock[joint.name])}) for m in joint.motion())
+                placement = Placement(rotation=placement.rotation * R_q,
+                                      translation=placement.translation + placement.rotation * t_q)
+                joint = Fixed(joint.name)
+            new.add_body(b.name, parent=b.parent.name if b.parent else None, joint=joint, mass=b.mass,
+                         com=b.com, inertia=b.inertia, placement=placement)
+        for f in self.frames.values():
+            new.add_frame(f.name, f.body.name, f.placement)
+        if hasattr(self, "continuous"):
+            new.continuous = [c for j, c in zip(self.joints, self.continuous) if j.name not in lock]
+        return new
+
     def __repr__(self) -> str:
         return f"System({len(self.bodies)} bodies, q={list(self.q)})"
 
