@@ -50,6 +50,7 @@ class NumericEoM:
         self._writer = FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u),
                                                            "ud": list(eom.system.ud), "p": self.params})
         self.functions: dict[str, Generated] = {}
+        self._python: dict[str, Callable] = {}  # Python versions for mpmath references
         for name in ("M", "b", "g", "tau", "T", "U"):
             if name == "tau" or name in eom.compact:  # derive(quantities=...) may leave some out
                 self._function(name, lambda name=name: eom.tau_compact if name == "tau" else eom.compact[name],
@@ -88,6 +89,23 @@ class NumericEoM:
             raise ModelError(f"{key} was not derived: derive it (quantities=...) to evaluate it")
         f = self.functions[key]
         return _call(f.function, f.shape, self.nq, self.nv, q, u, ud, self._p(params, key))
+
+    def reference(self, key: str, q, u=None, ud=None, params=None, digits: int = 50) -> np.ndarray:
+        """The same generated expressions evaluated in mpmath with `digits` significant digits (one
+        state; the constants are the float64 numbers of the model): the high-precision reference for
+        measuring float64 round-off."""
+        import mpmath
+
+        if key not in self._python:  # the Python text runs with any number type
+            self._python[key] = compile_function(self._writer.source("f", _expression(self.eom, key))[0], key) \
+                if key in ("M", "b", "g", "tau", "T", "U") else self.functions[key].function
+        with mpmath.workdps(digits):
+            def mp(x, n):
+                return [mpmath.mpf(float(v)) for v in (np.zeros(n) if x is None else np.asarray(x, dtype=float))]
+            out = np.zeros(self.functions[key].shape, dtype=object)
+            self._python[key](mp(q, self.nq), mp(u, self.nv), mp(ud, self.nv),
+                              [mpmath.mpf(v) for v in self._p(params, key)], out, mpmath.sin, mpmath.cos, mpmath.sqrt)
+            return out
 
     def M(self, q, params=None) -> np.ndarray:
         return self.call("M", q, params=params)
@@ -230,6 +248,10 @@ class NumericEoM:
         """N_cᵀ (M u̇ + b + g − Sᵀ τ − τ_loads): zero along any motion the contacts allow."""
         N = self.support_projector(q, params)
         return N.T @ (self.M(q, params) @ np.asarray(ud, float) - self._h(q, u, tau_a, params))
+
+
+def _expression(eom, key: str):
+    return eom.tau_compact if key == "tau" else eom.compact[key]
 
 
 class NumericKane:
