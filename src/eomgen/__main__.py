@@ -1,4 +1,5 @@
-"""Command line: `eomgen verify NAME_OR_URDF`, `eomgen generate NAME_OR_URDF -o FILE`."""
+"""Command line: `eomgen verify NAME_OR_URDF`, `eomgen generate NAME_OR_URDF -o FILE`,
+`eomgen tradeoff NAME_OR_URDF [--png FILE]`."""
 from __future__ import annotations
 
 import argparse
@@ -29,6 +30,11 @@ def main(argv: list[str] | None = None) -> int:
     v.add_argument("--method", default="projected_newton_euler", choices=sorted(METHODS))
     v.add_argument("--states", type=int, default=20)
     v.add_argument("--frames", nargs="*", help="frames whose Jacobians to check (default: the end frames)")
+    tr = sub.add_parser("tradeoff", help="measure approximate variants of a model against the full one")
+    tr.add_argument("robot", help="example-robot-data name or URDF path")
+    tr.add_argument("--states", type=int, default=200)
+    tr.add_argument("--png", help="write the Pareto plot (error against evaluation time) here")
+    tr.add_argument("--json", help="write the table as JSON here")
     gen = sub.add_parser("generate", help="write a numpy-only Python module")
     gen.add_argument("robot", help="example-robot-data name or URDF path")
     gen.add_argument("-o", "--output", required=True, help="the .py file to write")
@@ -42,6 +48,21 @@ def main(argv: list[str] | None = None) -> int:
             report = verify(system, method=args.method, states=args.states, frames=args.frames)
             print(report)
             return 0 if report.ok() else 1
+        if args.command == "tradeoff":
+            import json
+            from dataclasses import asdict
+
+            from .tradeoff import HEADER, pareto_plot, tradeoff
+
+            variants = tradeoff(system, states=args.states)
+            print(HEADER)
+            for v in variants:
+                print(v.row())
+            if args.png:
+                pareto_plot(variants, args.png, args.robot)
+            if args.json:
+                Path(args.json).write_text(json.dumps([asdict(v) for v in variants], indent=2))
+            return 0
         t0 = time.perf_counter()
         path = write_module(derive(system, method=args.method), args.output)
         print(f"wrote {path} ({system.nq} coordinates) in {time.perf_counter() - t0:.2f} s")

@@ -298,23 +298,34 @@ class System:
             raise ModelError(f"reduced: unknown joints {unknown}; joints are {sorted(names)}")
         if self.loads or self.contacts or self.motors:
             raise ModelError("reduced: loads, contacts and motors are not carried over; add them to the reduced system")
-        new = System(gravity=self.gravity, strict=self.strict)
-        for b in self.bodies:
-            joint, placement = b.joint, b.placement
-            if joint.name in lock:
-                if len(joint.coordinates) != 1:
-                    raise ModelError(f"reduced: joint '{joint.name}' has {len(joint.coordinates)} coordinates; "
-                                     "only one-coordinate joints can be locked")
-                R_q, t_q = (m.xreplace({joint.q: sp.sympify(lock[joint.name])}) for m in joint.motion())
-                placement = Placement(rotation=placement.rotation * R_q,
-                                      translation=placement.translation + placement.rotation * t_q)
-                joint = Fixed(joint.name)
-            new.add_body(b.name, parent=b.parent.name if b.parent else None, joint=joint, mass=b.mass,
-                         com=b.com, inertia=b.inertia, placement=placement)
-        for f in self.frames.values():
-            new.add_frame(f.name, f.body.name, f.placement)
+
+        def weld(b):
+            joint = b.joint
+            if joint.name not in lock:
+                return {}
+            if len(joint.coordinates) != 1:
+                raise ModelError(f"reduced: joint '{joint.name}' has {len(joint.coordinates)} coordinates; "
+                                 "only one-coordinate joints can be locked")
+            R_q, t_q = (m.xreplace({joint.q: sp.sympify(lock[joint.name])}) for m in joint.motion())
+            P = b.placement
+            return {"joint": Fixed(joint.name), "placement": Placement(rotation=P.rotation * R_q,
+                                                                       translation=P.translation + P.rotation * t_q)}
+        new = self.rebuilt(weld)
         if hasattr(self, "continuous"):
             new.continuous = [c for j, c in zip(self.joints, self.continuous) if j.name not in lock]
+        return new
+
+    def rebuilt(self, change) -> "System":
+        """A copy of the bodies and frames with `change(body)` → overrides of add_body's arguments
+        (joint, mass, com, inertia, placement); loads, contacts and motors are not carried over."""
+        new = System(gravity=self.gravity, strict=self.strict)
+        for b in self.bodies:
+            args = dict(joint=b.joint, mass=b.mass, com=b.com, inertia=b.inertia, placement=b.placement)
+            args.update(change(b))
+            new.add_body(b.name, parent=b.parent.name if b.parent else None, **args)
+        for f in self.frames.values():
+            new.add_frame(f.name, f.body.name, f.placement)
+        new.continuous = getattr(self, "continuous", [False] * len(new.joints))
         return new
 
     def __repr__(self) -> str:
