@@ -44,3 +44,18 @@ def test_no_compiler_is_a_clear_error(monkeypatch):
     with pytest.raises(eg.ModelError, match="no C compiler found.*NumPy backend works without one"):
         eg.codegen(eom, backend="c")
     assert eg.codegen(eom).M(np.zeros(2)).shape == (2, 2)
+
+
+def test_ur5_operation_counts_and_nonlinear_effects():
+    """ur5 with numeric parameters: M in at most 250 multiplications, b + g (one pass) in at most 350;
+    nle = Pinocchio's nonLinearEffects."""
+    import pinocchio as pin
+
+    system = eg.robots.load("ur5")
+    f = eg.codegen(eg.derive(system, method="recursive"))
+    assert f.multiplications["M"] <= 250 and f.multiplications["nle"] <= 350, f.multiplications
+    model = system.pinocchio_model
+    data = model.createData()
+    q, u, _ = eg.random_states(system, 10, np.random.default_rng(17))
+    for k in range(10):
+        np.testing.assert_allclose(f.nle(q[k], u[k]), pin.nonLinearEffects(model, data, q[k], u[k]), rtol=0, atol=1e-10)

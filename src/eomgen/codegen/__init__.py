@@ -51,7 +51,7 @@ class NumericEoM:
                                                            "ud": list(eom.system.ud), "p": self.params})
         self.functions: dict[str, Generated] = {}
         self._python: dict[str, Callable] = {}  # Python versions for mpmath references
-        for name in ("M", "b", "g", "tau", "T", "U"):
+        for name in ("M", "b", "g", "nle", "tau", "T", "U"):
             if name == "tau" or name in eom.compact:  # derive(quantities=...) may leave some out
                 self._function(name, lambda name=name: eom.tau_compact if name == "tau" else eom.compact[name],
                                symmetric=name == "M")
@@ -64,6 +64,11 @@ class NumericEoM:
     def ops(self) -> dict[str, int]:
         """Floating-point operations of each generated function (after sharing the intermediates)."""
         return {k: f.ops for k, f in self.functions.items()}
+
+    @property
+    def multiplications(self) -> dict[str, int]:
+        """Multiplications written in each generated function (the '*' of its source, powers excluded)."""
+        return {k: f.source.count("*") - 2 * f.source.count("**") for k, f in self.functions.items()}
 
     def _function(self, key: str, build: Callable[[], sp.Basic], symmetric: bool = False) -> Generated:
         """The generated function `key`, written on first request."""
@@ -115,6 +120,12 @@ class NumericEoM:
 
     def g(self, q, params=None) -> np.ndarray:
         return self.call("g", q, params=params)[..., 0]
+
+    def nle(self, q, u, params=None) -> np.ndarray:
+        """b + g in one pass (method "recursive"), like Pinocchio's nonLinearEffects."""
+        if "nle" not in self.functions:
+            return self.b(q, u, params) + self.g(q, params)
+        return self.call("nle", q, u, params=params)[..., 0]
 
     def tau(self, q, u, params=None) -> np.ndarray:
         """Generalized forces of all loads."""

@@ -123,6 +123,8 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
         compact["b"] = rnea(kin.u, zero)
     if "g" in quantities:
         compact["g"] = rnea([0] * n, system.gravity)
+    if "b" in quantities and "g" in quantities:  # Pinocchio's nonLinearEffects: both in one pass
+        compact["nle"] = rnea(kin.u, system.gravity)
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "recursive", compact)
