@@ -11,8 +11,32 @@ from .model.system import System
 from .subexpressions import Subexpressions
 
 
+class ClosedForms:
+    """Results kept in named intermediates (`compact`), shown as closed forms on first use."""
+
+    compact: dict
+    kinematics: Kinematics
+    _closed: dict
+
+    @property
+    def subexpressions(self) -> Subexpressions:
+        return self.kinematics.sub
+
+    def _closed_form(self, name: str):
+        if name not in self.compact:
+            raise ModelError(f"{name} was not derived (quantities {sorted(k for k in self.compact if ':' not in k)})")
+        if name not in self._closed:
+            self._closed[name] = self.subexpressions.inline(self.compact[name])
+        return self._closed[name]
+
+
+def closed_form(name: str, doc: str = "") -> property:
+    """A property giving the closed form of compact[name]."""
+    return property(lambda self: self._closed_form(name), doc=doc)
+
+
 @dataclass(eq=False)
-class EquationsOfMotion:
+class EquationsOfMotion(ClosedForms):
     """M, b, g, the generalized forces of the loads, S, and the energies T and U.
 
     The `compact` forms are written in named intermediates (`subexpressions`), which is what code
@@ -28,10 +52,6 @@ class EquationsOfMotion:
     @property
     def system(self) -> System:
         return self.kinematics.system
-
-    @property
-    def subexpressions(self) -> Subexpressions:
-        return self.kinematics.sub
 
     @property
     def q(self) -> sp.Matrix:
@@ -51,33 +71,11 @@ class EquationsOfMotion:
         """Symbols of the actuated joints' torques / forces τ_a (one per row of S)."""
         return sp.Matrix([sp.Symbol(f"tau_{j.name}") for j in self.system.joints if j.actuated])
 
-    def _closed_form(self, name: str):
-        if name not in self.compact:
-            raise ModelError(f"{name} was not derived (quantities {sorted(k for k in self.compact if ':' not in k)})")
-        if name not in self._closed:
-            self._closed[name] = self.subexpressions.inline(self.compact[name])
-        return self._closed[name]
-
-    @property
-    def M(self) -> sp.Matrix:
-        return self._closed_form("M")
-
-    @property
-    def b(self) -> sp.Matrix:
-        return self._closed_form("b")
-
-    @property
-    def g(self) -> sp.Matrix:
-        return self._closed_form("g")
-
-    @property
-    def T(self) -> sp.Expr:
-        return self._closed_form("T")
-
-    @property
-    def U(self) -> sp.Expr:
-        """Potential energy: gravity and springs."""
-        return self._closed_form("U")
+    M = closed_form("M", "Mass matrix M(q).")
+    b = closed_form("b", "Centrifugal and Coriolis terms b(q, u).")
+    g = closed_form("g", "Gravity terms g(q) (left-hand side).")
+    T = closed_form("T", "Kinetic energy.")
+    U = closed_form("U", "Potential energy: gravity, springs, bending.")
 
     @property
     def load_names(self) -> list[str]:

@@ -15,18 +15,18 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from ..eom import ClosedForms, closed_form
 from ..errors import ModelError
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
 from ..model import FreeFlyer
 from ..model.loads import Point
 from ..model.system import System
-from ..subexpressions import Subexpressions
 from .applied import applied_wrenches
 
 
 @dataclass(eq=False)
-class KaneEquations:
+class KaneEquations(ClosedForms):
     """M̃(q) ẇ_ind = f̃(q, w_ind) and q̇ = Γ w_ind + Θ; closed forms on access, compact forms in
     `compact` (named intermediates of `subexpressions`)."""
 
@@ -38,44 +38,17 @@ class KaneEquations:
     compact: dict = field(default_factory=dict)  # mass_matrix, forcing, qdot, dependent_speeds, F_r
     _closed: dict = field(default_factory=dict, repr=False)
 
-    @property
-    def subexpressions(self) -> Subexpressions:
-        return self.kinematics.sub
-
-    def _closed_form(self, name: str):
-        if name not in self._closed:
-            self._closed[name] = self.subexpressions.inline(self.compact[name])
-        return self._closed[name]
-
-    @property
-    def mass_matrix(self) -> sp.Matrix:
-        """M̃ (p × p), the coefficients of ẇ_ind in −F̃*_r."""
-        return self._closed_form("mass_matrix")
-
-    @property
-    def forcing(self) -> sp.Matrix:
-        """f̃ = F̃_r + F̃*_r|_(ẇ=0), so that M̃ ẇ_ind = f̃."""
-        return self._closed_form("forcing")
-
-    @property
-    def active_forces(self) -> sp.Matrix:
-        """F̃_r: the nonholonomic generalized active forces (static equilibrium iff they vanish)."""
-        return self._closed_form("F_r")
+    mass_matrix = closed_form("mass_matrix", "M̃ (p × p), the coefficients of ẇ_ind in −F̃*_r.")
+    forcing = closed_form("forcing", "f̃ = F̃_r + F̃*_r|_(ẇ=0), so that M̃ ẇ_ind = f̃.")
+    active_forces = closed_form("F_r", "F̃_r: the nonholonomic generalized active forces (equilibrium iff 0).")
+    qdot = closed_form("qdot", "The kinematic differential equations q̇ = Γ w_ind + Θ.")
+    dependent_speeds = closed_form("dependent_speeds", "w_dep = A w_ind + B.")
 
     def inertia_forces(self) -> sp.Matrix:
         """F̃*_r = −M̃ ẇ_ind + (f̃ − F̃_r), in the symbols of ẇ_ind (w + 'dot')."""
         wdot = sp.Matrix([sp.Symbol(f"{w.name}dot") for w in self.independent])
         return -self.mass_matrix * wdot + self.forcing - self.active_forces
 
-    @property
-    def qdot(self) -> sp.Matrix:
-        """The kinematic differential equations q̇ = Γ w_ind + Θ."""
-        return self._closed_form("qdot")
-
-    @property
-    def dependent_speeds(self) -> sp.Matrix:
-        """w_dep = A w_ind + B."""
-        return self._closed_form("dependent_speeds")
 
 
 def _linear(exprs, symbols, what: str) -> tuple[sp.Matrix, sp.Matrix]:
