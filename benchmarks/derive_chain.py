@@ -12,9 +12,8 @@ Run: python benchmarks/derive_chain.py [--max-n 20] [--limit 120] [--out benchma
 from __future__ import annotations
 
 import argparse
-import json
 import multiprocessing as mp
-import platform
+import sys
 import time
 from pathlib import Path
 
@@ -22,6 +21,9 @@ import numpy as np
 import sympy as sp
 
 import eomgen as eg
+
+sys.path.insert(0, str(Path(__file__).parent))
+import results_io  # noqa: E402
 
 
 def parameters(n: int):
@@ -141,7 +143,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--max-n", type=int, default=20)
     ap.add_argument("--limit", type=float, default=120.0, help="seconds per sympy run before giving up")
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "derive_chain.json"))
+    ap.add_argument("--out", default=results_io.default_path("derive_chain"))
     args = ap.parse_args()
     rng = np.random.default_rng(0)
     ctx = mp.get_context("fork")
@@ -184,12 +186,7 @@ def main() -> None:
               f"{_f(row['kane']):>9} "
               f"{_f(row['sympy_lagrange']):>9} {_f(row['kane_over_pne'], 'x'):>9} "
               f"{_f(row['sympy_lagrange_over_lagrange'], 'x'):>9} {row['max_rel_diff']:>13.1e}", flush=True)
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps({"benchmark": "derive_chain", "machine": platform.platform(),
-                               "python": platform.python_version(), "sympy": sp.__version__,
-                               "limit_seconds": args.limit, "rows": rows}, indent=2))
-    print(f"written: {out}")
+    results_io.write(args.out, "derive_chain", rows, sympy=sp.__version__, limit_seconds=args.limit)
 
 
 def _rel(a, b) -> float:

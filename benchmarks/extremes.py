@@ -14,8 +14,6 @@ Run: python benchmarks/extremes.py [--long] [--out benchmarks/results/extremes.j
 from __future__ import annotations
 
 import argparse
-import json
-import platform
 import sys
 from pathlib import Path
 
@@ -26,6 +24,7 @@ import eomgen as eg
 
 sys.path.insert(0, str(Path(__file__).parent))
 import derive_chain  # noqa: E402
+import results_io  # noqa: E402
 
 
 def numeric_chain(n: int, masses=None) -> eg.System:
@@ -82,7 +81,7 @@ def cases(long: bool = False):
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--long", action="store_true", help="also the chain of 50 links")
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "extremes.json"))
+    ap.add_argument("--out", default=results_io.default_path("extremes"))
     args = ap.parse_args()
     rows = [measure(*c) for c in cases(args.long)]
     print(f"{'case':40s} {'err M':>9s} {'err b':>9s} {'err g':>9s} {'err u̇':>9s} {'cond M':>9s}")
@@ -90,10 +89,7 @@ def main() -> None:
         print(f"{r['case']:40s} {r['err_M']:9.1e} {r['err_b']:9.1e} {r['err_g']:9.1e} "
               f"{r['err_forward_dynamics']:9.1e} {r['cond_M']:9.1e}")
     print("\n" + __doc__.split("\n\n")[1])
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps({"benchmark": "extremes", "machine": platform.platform(), "rows": rows}, indent=2))
-    print(f"written: {out}")
+    results_io.write(args.out, "extremes", rows)
 
 
 if __name__ == "__main__":

@@ -6,8 +6,6 @@ Run: python benchmarks/kane.py [--max-n 10] [--out benchmarks/results/kane.json]
 from __future__ import annotations
 
 import argparse
-import json
-import platform
 import sys
 import time
 from pathlib import Path
@@ -22,6 +20,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 sys.path.insert(0, str(Path(__file__).parents[1] / "tests"))
 import derive_chain  # noqa: E402
 import kane_systems  # noqa: E402
+import results_io  # noqa: E402
 
 
 def timed(fn):
@@ -60,7 +59,7 @@ def chain(n: int, state) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--max-n", type=int, default=8)
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "kane.json"))
+    ap.add_argument("--out", default=results_io.default_path("kane"))
     args = ap.parse_args()
     rng = np.random.default_rng(0)
     rows = [rolling_disk()] + [chain(n, derive_chain.random_state(n, rng)) for n in range(1, args.max_n + 1)]
@@ -68,11 +67,7 @@ def main() -> None:
     for r in rows:
         print(f"{r['system']:16s} {r['eomgen_s']:11.3f} {r['KanesMethod_s']:16.3f} "
               f"{r['KanesMethod_s'] / r['eomgen_s']:6.1f}x {r.get('max_abs_diff', float('nan')):9.1e}")
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps({"benchmark": "kane", "machine": platform.platform(), "sympy": sp.__version__,
-                               "rows": rows}, indent=2))
-    print(f"written: {out}")
+    results_io.write(args.out, "kane", rows, sympy=sp.__version__)
 
 
 if __name__ == "__main__":

@@ -9,8 +9,7 @@ Run: python benchmarks/robots.py [names ...] [--method recursive] [--batch 10000
 from __future__ import annotations
 
 import argparse
-import json
-import platform
+import sys
 import time
 import timeit
 import warnings
@@ -21,6 +20,9 @@ import pinocchio as pin
 
 import eomgen as eg
 from eomgen.model.urdf import pinocchio_configuration
+
+sys.path.insert(0, str(Path(__file__).parent))
+import results_io  # noqa: E402
 
 
 def per_call(fn, number: int = 200, repeat: int = 5) -> float:
@@ -77,7 +79,7 @@ def main() -> None:
     ap.add_argument("names", nargs="*", default=eg.robots.names(floating_base=False) + eg.robots.names(floating_base=True))
     ap.add_argument("--batch", type=int, default=10_000)
     ap.add_argument("--method", default="recursive", help="derivation whose code is timed (default: recursive)")
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "robots.json"))
+    ap.add_argument("--out", default=results_io.default_path("robots"))
     args = ap.parse_args()
     print(f"{'robot':26s} {'nq':>3s} {'derive':>7s} {'gen':>6s} {'ops M':>7s} {'ops b':>7s} {'ops g':>6s} "
           f"{'M µs':>7s} {'pin':>6s} {'b µs':>7s} {'pin':>6s} {'g µs':>7s} {'pin':>6s} "
@@ -93,11 +95,7 @@ def main() -> None:
               f"{r['pin_loop_us_per_state'] / r['batch_us_per_state']:7.1f}x "
               f"{r['c_M_us']:6.1f} {r['c_b_us']:6.1f} {r['c_g_us']:6.1f} {r['c_batch_us_per_state']:8.3f} "
               f"{r['pin_loop_us_per_state'] / r['c_batch_us_per_state']:8.1f}x", flush=True)
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps({"benchmark": "robots", "machine": platform.platform(), "pinocchio": pin.__version__,
-                               "method": args.method, "batch": args.batch, "rows": rows}, indent=2))
-    print(f"written: {out}")
+    results_io.write(args.out, "robots", rows, pinocchio=pin.__version__, method=args.method, batch=args.batch)
 
 
 if __name__ == "__main__":

@@ -2,7 +2,6 @@
 constraint, and the rolling disk; p equations for p independent speeds, no multipliers.
 
 Run: python examples/nonholonomic.py"""
-import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 

@@ -12,7 +12,7 @@ import numpy as np
 from .codegen import codegen
 from .errors import ModelError
 from .methods import derive
-from .model import FreeFlyer, Prismatic, Revolute, System
+from .model import FreeFlyer, Revolute, System
 from .model.urdf import pinocchio_configuration
 from .state import random_states
 

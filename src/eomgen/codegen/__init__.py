@@ -51,10 +51,9 @@ class NumericEoM:
                                                            "ud": list(eom.system.ud), "p": self.params})
         self.functions: dict[str, Generated] = {}
         self._python: dict[str, Callable] = {}  # Python versions for mpmath references
-        for name in ("M", "b", "g", "nle", "tau", "T", "U"):
-            if name == "tau" or name in eom.compact:  # derive(quantities=...) may leave some out
-                self._function(name, lambda name=name: eom.tau_compact if name == "tau" else eom.compact[name],
-                               symmetric=name == "M")
+        for name in ("M", "b", "g", "nle"):  # T, U and tau are written when first asked for
+            if name in eom.compact:  # derive(quantities=...) may leave some out
+                self._function(name, lambda name=name: eom.compact[name], symmetric=name == "M")
 
     @property
     def sources(self) -> dict[str, str]:
@@ -77,6 +76,13 @@ class NumericEoM:
             self.functions[key] = Generated(source, shape, ops, compile_function(source, key))
         return self.functions[key]
 
+    def _on_demand(self, key: str) -> None:
+        """Write T, U or tau on first use; anything else missing was not derived."""
+        if key == "tau" or (key in ("T", "U") and key in self.eom.compact):
+            self._function(key, lambda: _expression(self.eom, key))
+        else:
+            raise ModelError(f"{key} was not derived: derive it (quantities=...) to evaluate it")
+
     def _p(self, params: Mapping | None, key: str) -> list[float]:
         """The parameter vector; only the parameters that function `key` uses must be given."""
         if not self.params:
@@ -91,7 +97,7 @@ class NumericEoM:
     def call(self, key: str, q, u=None, ud=None, params=None) -> np.ndarray:
         """Evaluate generated function `key` at q, u, u̇ (one state, or N states along axis 0)."""
         if key not in self.functions:
-            raise ModelError(f"{key} was not derived: derive it (quantities=...) to evaluate it")
+            self._on_demand(key)
         f = self.functions[key]
         return _call(f.function, f.shape, self.nq, self.nv, q, u, ud, self._p(params, key))
 
@@ -101,6 +107,8 @@ class NumericEoM:
         measuring float64 round-off."""
         import mpmath
 
+        if key not in self.functions:
+            self._on_demand(key)
         if key not in self._python:  # the Python text runs with any number type
             self._python[key] = compile_function(self._writer.source("f", _expression(self.eom, key))[0], key) \
                 if key in ("M", "b", "g", "tau", "T", "U") else self.functions[key].function

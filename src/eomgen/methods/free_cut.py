@@ -173,7 +173,7 @@ def constrained_basis(joint) -> tuple[sp.Matrix, sp.Matrix]:
     return sp.eye(3), sp.eye(3)
 
 
-def _planar_normal(kin: Kinematics, ud: sp.Matrix) -> int | None:
+def _planar_normal(kin: Kinematics) -> int | None:
     """The world axis the system moves perpendicular to, if all motion stays in one plane."""
     def zero(e):
         return sp.expand(kin.sub.inline(e)) == 0
@@ -193,7 +193,7 @@ def cut_equations(kin: Kinematics) -> CutEquations:
     """Newton and Euler of every body cut free, with the joint reactions as unknowns."""
     system, sub = kin.system, kin.sub
     ud = sp.Matrix(list(system.ud))
-    normal = _planar_normal(kin, ud)
+    normal = _planar_normal(kin)
     keep_F = [i for i in range(3) if i != normal]
     keep_T = [normal] if normal is not None else [0, 1, 2]
     W, reaction_unknowns = {}, []
