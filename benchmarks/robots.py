@@ -2,8 +2,8 @@
 
 Per robot: derivation and code generation time, operations of the generated M, b, g, the per-call
 time of the NumPy and C backends' M, b, g from Python beside Pinocchio's crba, nonLinearEffects and
-computeGeneralizedGravity from Python, and the batched time per state (NumPy for N states, C for 10 N)
-beside a Python loop over Pinocchio. Prints a table and writes JSON.
+computeGeneralizedGravity from Python (the C backend's ratio to Pinocchio in parentheses), and the
+batched time per state (NumPy for N states, C for 10 N) beside a Python loop over Pinocchio. Prints a table and writes JSON.
 
 Run: python benchmarks/robots.py [names ...] [--method recursive] [--batch 10000] [--out ...]"""
 from __future__ import annotations
@@ -84,7 +84,7 @@ def main() -> None:
     print(f"{'robot':26s} {'nq':>3s} {'derive':>7s} {'gen':>6s} {'ops M':>7s} {'ops b':>7s} {'ops g':>6s} "
           f"{'M µs':>7s} {'pin':>6s} {'b µs':>7s} {'pin':>6s} {'g µs':>7s} {'pin':>6s} "
           f"{'batch µs/state':>15s} {'pin loop':>9s} {'speed-up':>8s} "
-          f"{'C M':>6s} {'C b':>6s} {'C g':>6s} {'C batch':>8s} {'C vs loop':>9s}")
+          f"{'C M (÷pin)':>12s} {'C b (÷pin)':>12s} {'C g (÷pin)':>12s} {'C batch':>8s} {'C vs loop':>9s}")
     rows = []
     for name in args.names:
         r = bench(name, args.batch, args.method)
@@ -93,7 +93,8 @@ def main() -> None:
               f"{r['ops_g']:6d} {r['M_us']:7.1f} {r['pin_M_us']:6.1f} {r['b_us']:7.1f} {r['pin_b_us']:6.1f} "
               f"{r['g_us']:7.1f} {r['pin_g_us']:6.1f} {r['batch_us_per_state']:15.2f} {r['pin_loop_us_per_state']:9.2f} "
               f"{r['pin_loop_us_per_state'] / r['batch_us_per_state']:7.1f}x "
-              f"{r['c_M_us']:6.1f} {r['c_b_us']:6.1f} {r['c_g_us']:6.1f} {r['c_batch_us_per_state']:8.3f} "
+              + "".join(f" {r[f'c_{k}_us']:5.2f} ({r[f'c_{k}_us'] / r[f'pin_{k}_us']:.2f})" for k in "Mbg") +
+              f" {r['c_batch_us_per_state']:8.3f} "
               f"{r['pin_loop_us_per_state'] / r['c_batch_us_per_state']:8.1f}x", flush=True)
     results_io.write(args.out, "robots", rows, pinocchio=pin.__version__, method=args.method, batch=args.batch)
 

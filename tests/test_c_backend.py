@@ -59,3 +59,49 @@ def test_ur5_operation_counts_and_nonlinear_effects():
     q, u, _ = eg.random_states(system, 10, np.random.default_rng(17))
     for k in range(10):
         np.testing.assert_allclose(f.nle(q[k], u[k]), pin.nonLinearEffects(model, data, q[k], u[k]), rtol=0, atol=1e-10)
+
+
+def test_extension_inputs_parameters_and_frames(tmp_path, monkeypatch):
+    """Symbolic parameters, frame Jacobians (a module built on first use), the NumPy backend's errors,
+    and one state = the same state in a batch (vector sin / cos there) to a few ulps."""
+    import sympy as sp
+
+    from models import cart_pendulum
+
+    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
+    system, (m_c, m_p, l, g) = cart_pendulum()
+    eom = eg.derive(system)
+    fc, fn = eg.codegen(eom, backend="c"), eg.codegen(eom)
+    params = {"m_c": 2.0, "m_p": 0.5, "l": 0.8, "g": 9.81}
+    q, u, _ = eg.random_states(system, 300, np.random.default_rng(3))
+    for key in ("M", "b", "g", "tau"):
+        args = (q,) if key in ("M", "g") else (q, u)
+        np.testing.assert_allclose(getattr(fc, key)(*args, params=params), getattr(fn, key)(*args, params=params),
+                                   rtol=1e-13, atol=1e-14, err_msg=key)
+    np.testing.assert_allclose(fc.jacobian("tip", q, params), fn.jacobian("tip", q, params), rtol=1e-13, atol=1e-14)
+    M_closed = sp.lambdify([*system.q, m_c, m_p, l], eom.M.subs(g, 9.81))
+    np.testing.assert_allclose(fc.M(q[7], params), M_closed(*q[7], 2.0, 0.5, 0.8), rtol=1e-14)
+    one = np.array([fc.b(q[k], u[k], params) for k in range(300)])
+    np.testing.assert_allclose(fc.b(q, u, params), one, rtol=1e-14, atol=1e-14)
+    with pytest.raises(eg.ModelError, match=r"values missing for the parameters \['l', 'm_p'\]"):
+        fc.M(q[0], {"m_c": 1.0})
+    with pytest.raises(ValueError, match=r"q: expected shape \(2,\) or \(N, 2\), got \(3,\)"):
+        fc.M(np.zeros(3), params)
+    with pytest.raises(ValueError, match=r"u: expected shape \(300, 2\), got \(2,\)"):
+        fc.b(q, u[0], params)
+    with pytest.raises(ValueError, match="u: contains NaN or infinite values"):
+        fc.b(q[0], [0.0, np.nan], params)
+    for bad in (np.zeros(3), "abc"):  # the NumPy backend says the same
+        with pytest.raises(ValueError):
+            fn.M(bad, params)
+
+
+def test_extension_is_cached(tmp_path, monkeypatch):
+    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
+    eom = eg.derive(eg.robots.load("double_pendulum"), method="recursive")
+    eg.codegen(eom, backend="c")
+    built = {p: p.stat().st_mtime_ns for p in tmp_path.iterdir()}
+    assert len(built) == 1
+    f = eg.codegen(eom, backend="c")
+    assert {p: p.stat().st_mtime_ns for p in tmp_path.iterdir()} == built
+    assert f.M(np.zeros(2)).shape == (2, 2)

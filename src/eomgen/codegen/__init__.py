@@ -30,6 +30,7 @@ class Generated:
     shape: tuple
     ops: int
     function: Callable
+    vector: Callable | None = None  # compiled: the column output as a vector
 
     def __post_init__(self) -> None:
         self.params_used = {int(k) for k in re.findall(r"\b_p(\d+) =", self.source)}

@@ -1,124 +1,77 @@
-"""C backend: the same functions printed as C, compiled with the machine's C compiler into shared
-libraries (cached by a hash of the source, reused across runs) and called through ctypes, one state
-per call or N states in one call. `write_c` writes plain C source and a header for a controller."""
+"""C backend: the same functions printed as C, compiled into a CPython extension module (see
+`extension`) and called directly, one state per call or N states in one call. `write_c` writes plain C
+source and a header for a controller."""
 from __future__ import annotations
 
-import ctypes
-import hashlib
-import math
-import os
 import re
-import shutil
-import subprocess
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
-from . import Generated, NumericEoM, _inputs
-from .numpy_backend import C, FunctionWriter
+from . import Generated, NumericEoM
+from .extension import build, compiler
+from .numpy_backend import C, C_TRIG, FunctionWriter
 
-_P = ctypes.c_void_p
-
-
-def compiler() -> str:
-    cc = os.environ.get("CC", "cc")
-    path = shutil.which(cc)
-    if path is None:
-        raise ModelError(f"no C compiler found (looked for {cc!r}; set CC); the NumPy backend works without one")
-    return path
-
-
-def cache_dir() -> Path:
-    folder = Path(os.environ.get("EOMGEN_CACHE", Path.home() / ".cache" / "eomgen"))
-    folder.mkdir(parents=True, exist_ok=True)
-    return folder
-
-
-def library_source(function: str, shape: tuple, nq: int, nv: int) -> str:
-    """One generated function `f` and its batched loop `f_batch`."""
-    size = shape[0] * shape[1]
-    return (f"#include <math.h>\n\n{function}\n"
-            "void f_batch(long n, const double *q, const double *u, const double *ud, const double *p, double *out)\n"
-            f"{{\n    for (long k = 0; k < n; ++k)\n        f(q + k * {nq}, u + k * {nv}, ud + k * {nv}, p, out + k * {size});\n}}\n")
-
-
-def compile_library(source: str):
-    """The shared library of `source`, compiled once per distinct source."""
-    digest = hashlib.sha256(source.encode()).hexdigest()[:24]
-    target = cache_dir() / f"eomgen_{digest}.so"
-    if not target.exists():
-        with tempfile.TemporaryDirectory() as tmp:
-            c_file, so_file = Path(tmp) / "f.c", Path(tmp) / "f.so"
-            c_file.write_text(source)
-            result = subprocess.run([compiler(), "-O2", "-fPIC", "-shared", str(c_file), "-o", str(so_file), "-lm"],
-                                    capture_output=True, text=True)
-            if result.returncode != 0:
-                raise ModelError(f"the C compiler failed: {result.stderr[:2000]}")
-            shutil.move(str(so_file), target)  # atomic enough for a cache: same bytes from any writer
-    lib = ctypes.CDLL(str(target))
-    lib.f.argtypes = [_P, _P, _P, _P, _P]
-    lib.f.restype = None
-    lib.f_batch.argtypes = [ctypes.c_long, _P, _P, _P, _P, _P]
-    lib.f_batch.restype = None
-    return lib
+EAGER = ("M", "b", "g", "nle")
 
 
 class CompiledEoM(NumericEoM):
-    """`NumericEoM` with every function compiled from C (per call and batched)."""
+    """`NumericEoM` with every function compiled from C (per call and batched). M, b, g and nle are
+    built in one extension module up front; the others in a module each on first use."""
 
     def __init__(self, eom: EquationsOfMotion) -> None:
         compiler()  # a clear error before any work
-        self._buffers: dict = {}
         self._c = FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u),
                                                        "ud": list(eom.system.ud),
-                                                       "p": sorted(eom.system.parameters, key=str)}, C)
-        super().__init__(eom)
+                                                       "p": sorted(eom.system.parameters, key=str)}, C_TRIG)
+        self._pending: dict = {}
+        super().__init__(eom)  # registers the eager functions (deferred), then builds them together
+        self._build([k for k in EAGER if k in self._pending])
 
     def _function(self, key, build, symmetric=False) -> Generated:
         if key not in self.functions:
-            source, shape, ops = self._c.source("f", build(), symmetric)
-            lib = compile_library(library_source(source, shape, self.nq, self.nv))
-            self.functions[key] = Generated(source, shape, ops, lib)
+            self._pending[key] = (build, symmetric)
+            if key not in EAGER:
+                self._build([key])
+        return self.functions.get(key)
+
+    def _build(self, keys: list[str]) -> None:
+        written = []
+        for i, key in enumerate(keys):
+            expr, symmetric = self._pending.pop(key)
+            source, shape, ops = self._c.source(f"e{i}", expr(), symmetric)
+            written.append((key, source, shape, ops, self._c.trig_indices))
+        module = build([(source, shape, trig) for _, source, shape, _, trig in written], self.nq, self.nv, len(self.params))
+        for i, (key, source, shape, ops, _) in enumerate(written):
+            self.functions[key] = Generated(source, shape, ops, getattr(module, f"m{i}"), getattr(module, f"v{i}"))
+
+    def _pvec(self, params, key):
+        return np.array(self._p(params, key), dtype=float) if self.params else None
+
+    def _get(self, key: str) -> Generated:
+        if key not in self.functions:
+            self._on_demand(key)
         return self.functions[key]
 
     def call(self, key, q, u=None, ud=None, params=None) -> np.ndarray:
-        if key not in self.functions:
-            self._on_demand(key)
-        f = self.functions[key]
-        if params is None and np.ndim(q) == 1:  # one state: persistent buffers, one ctypes call
-            return self._single(key, f, q, u, ud)
-        (q, u, ud), batch = _inputs(self.nq, self.nv, q, u, ud)
-        q, u, ud = (np.ascontiguousarray(x) for x in (q, u, ud))
-        p = np.array(self._p(params, key), dtype=float)
-        out = np.zeros(batch + f.shape)
-        pointers = [x.ctypes.data for x in (q, u, ud, p, out)]
-        if batch:
-            f.function.f_batch(batch[0], *pointers)
-        else:
-            f.function.f(*pointers)
-        return out
+        return self._get(key).function(q, u, ud, self._pvec(params, key))
 
-    def _single(self, key, f, q, u, ud) -> np.ndarray:
-        buffers = self._buffers.get(key)
-        if buffers is None:
-            arrays = [np.zeros(self.nq), np.zeros(self.nv), np.zeros(self.nv),
-                      np.array(self._p(None, key), dtype=float), np.zeros(f.shape)]
-            buffers = self._buffers[key] = (arrays, [a.ctypes.data for a in arrays])
-        (qb, ub, udb, _, out), pointers = buffers
-        try:
-            qb[:] = q
-            ub[:] = 0.0 if u is None else u
-            udb[:] = 0.0 if ud is None else ud
-        except (ValueError, TypeError):
-            _inputs(self.nq, self.nv, q, u, ud)  # raises the error that names the argument
-            raise
-        if not math.isfinite(qb.dot(qb) + ub.dot(ub) + udb.dot(udb)):
-            _inputs(self.nq, self.nv, q, u, ud)
-        f.function.f(*pointers)  # writes only the nonzero entries; the others stay 0
-        return out.copy()
+    # the common entry points call the compiled function directly (vector outputs as vectors)
+    def M(self, q, params=None) -> np.ndarray:
+        return self._get("M").function(q, None, None, self._pvec(params, "M"))
+
+    def b(self, q, u, params=None) -> np.ndarray:
+        return self._get("b").vector(q, u, None, self._pvec(params, "b"))
+
+    def g(self, q, params=None) -> np.ndarray:
+        return self._get("g").vector(q, None, None, self._pvec(params, "g"))
+
+    def nle(self, q, u, params=None) -> np.ndarray:
+        if "nle" not in self.functions:
+            return self.b(q, u, params) + self.g(q, params)
+        return self.functions["nle"].vector(q, u, None, self._pvec(params, "nle"))
 
 
 def write_c(eom: EquationsOfMotion, directory, name: str = "eom", frames: list[str] | None = None) -> tuple[Path, Path]:

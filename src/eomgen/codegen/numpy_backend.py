@@ -9,7 +9,7 @@ Generated names are ours (_q0, _u0, _ud0, _p0, _x0, ...): no text of the model (
 symbol names) is ever printed into the source, so running it can do nothing but arithmetic."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy as sp
 
@@ -26,6 +26,7 @@ class Syntax:
     mirror: str
     footer: str
     power: str
+    trig_q: str = "{f}({x})"  # sin / cos of q[k]; the extension reads them from arrays (sinq, cosq)
 
 
 PYTHON = Syntax(header="def {name}(q, u, ud, p, out, sin, cos, sqrt):", input="    {var} = {arg}[{k}]",
@@ -34,6 +35,8 @@ PYTHON = Syntax(header="def {name}(q, u, ud, p, out, sin, cos, sqrt):", input=" 
 C = Syntax(header="void {name}(const double *q, const double *u, const double *ud, const double *p, double *out)\n{{",
            input="    const double {var} = {arg}[{k}];", assign="    const double {var} = {expr};",
            out="    out[{ij}] = {expr};", mirror="    out[{ji}] = out[{ij}];", footer="}}", power="pow({b}, {e})")
+C_TRIG = replace(C, header="void {name}(const double *q, const double *u, const double *ud, const double *p, "
+                           "const double *sinq, const double *cosq, double *out)\n{{", trig_q="{f}q[{k}]")
 
 
 class Printer:
@@ -97,6 +100,8 @@ class FunctionWriter:
                      for k, s in enumerate(symbols) for f in (sp.sin, sp.cos)}
         self.printer = Printer({**names, **self.trig}, syntax)
         self._lines: dict[sp.Symbol, tuple[str, int]] = {}
+        self._q_index = {s: k for k, s in enumerate(inputs.get("q", []))}
+        self.trig_indices: list[int] = []  # of the last function: the k with sin(q[k]) or cos(q[k]) used
 
     def _line(self, s: sp.Symbol) -> tuple[str, int]:
         if s not in self._lines:
@@ -125,7 +130,11 @@ class FunctionWriter:
             lines += [syntax.input.format(var=f"_{arg}{k}", arg=arg, k=k) for k, s in enumerate(symbols) if s in used]
         ops = len(trig)
         for t in sorted(trig, key=lambda t: self.trig[t]):
-            lines.append(syntax.assign.format(var=self.trig[t], expr=f"{type(t).__name__}({self.printer.names[t.args[0]]})"))
+            f, x = type(t).__name__, t.args[0]
+            trig_q = syntax.trig_q if x in self._q_index else "{f}({x})"
+            lines.append(syntax.assign.format(var=self.trig[t], expr=trig_q.format(f=f, x=self.printer.names[x],
+                                                                                  k=self._q_index.get(x))))
+        self.trig_indices = sorted({self._q_index[t.args[0]] for t in trig if t.args[0] in self._q_index})
         for s in needed:
             text, n = self._line(s)
             lines.append(text)
