@@ -39,3 +39,19 @@ def test_quaternion_off_unit_norm_is_a_model_error():
     model_error = np.abs(f.g(off) - f.g(q[0])).max() / np.abs(f.g(q[0])).max()
     assert 1e-8 < model_error < 1e-5
     assert np.abs(f.M(off) - f.M(q[0])).max() == 0.0
+
+
+def test_rank_deficient_contacts():
+    """A foot held twice: 15 rows of rank 12, u̇ and the minimum-norm F_c to 50 digits' values, and the
+    two contacts at the same point share the foot's force equally (a warning names the repeated rows)."""
+    import eomgen as eg
+
+    r = ROWS["solo12, a foot held twice (15 rows, rank 12)"]
+    assert (r["contact_rows"], r["contact_rank"]) == (15, 12)
+    assert r["err_F_c"] < 1e-13 and r["err_forward_dynamics"] < 1e-13
+    f = eg.codegen(eg.derive(extremes.solo12_foot_held_twice(), method="recursive"))
+    q, _, _ = eg.random_states(f.eom.system, 1, np.random.default_rng(23))
+    with pytest.warns(UserWarning, match=r"\['FL_FOOT_again.x', 'FL_FOOT_again.y', 'FL_FOOT_again.z'\]"):
+        F = f.contact_forces(q[0], np.zeros(18))
+    np.testing.assert_allclose(F[:3], F[12:], rtol=1e-10)
+    assert np.abs(F[:3]).max() > 0.1

@@ -24,7 +24,8 @@ class ClosedForms:
 
     def _closed_form(self, name: str):
         if name not in self.compact:
-            raise ModelError(f"{name} was not derived (quantities {sorted(k for k in self.compact if ':' not in k)})")
+            raise ModelError(f"{name} was not derived (derived: {sorted(k for k in self.compact if ':' not in k)}); "
+                             "derive it with quantities=...")
         if name not in self._closed:
             self._closed[name] = self.subexpressions.inline(self.compact[name])
         return self._closed[name]
@@ -97,8 +98,9 @@ class EquationsOfMotion(ClosedForms):
 
     def _free_cut_result(self, key: str):
         if key not in self.extras:
-            raise ModelError(f"{key} are a result of the free cut: derive with method='free_cut' "
-                             f"(these equations come from {self.method!r})")
+            raise ModelError(f"{key} are a result of the free cut with all of M, b, g: derive with "
+                             f"method='free_cut' and no quantities= (these equations come from {self.method!r}"
+                             f"{'' if self.method != 'free_cut' else ' with quantities ' + str(self.quantities)})")
         return self.extras[key]
 
     @property
@@ -138,6 +140,16 @@ class EquationsOfMotion(ClosedForms):
     def equations(self) -> sp.Matrix:
         """The residual M u̇ + b + g − τ − Sᵀ τ_a (= 0), closed form."""
         return self.M * self.system.ud + self.b + self.g - self.tau - self.S.T * self.tau_actuated
+
+    @property
+    def quantities(self) -> tuple[str, ...]:
+        """Which of M, b, g were derived."""
+        return tuple(k for k in ("M", "b", "g") if k in self.compact)
+
+    @property
+    def frames(self) -> list[str]:
+        """The frames whose Jacobian J and J̇ u were derived with the equations (derive(frames=...))."""
+        return [k[2:] for k in self.compact if k.startswith("J:")]
 
     def __repr__(self) -> str:
         return f"EquationsOfMotion(method={self.method!r}, q={list(self.q)})"

@@ -36,6 +36,11 @@ class Generated:
         self.params_used = {int(k) for k in re.findall(r"\b_p(\d+) =", self.source)}
 
 
+def eager(eom: EquationsOfMotion) -> list[str]:
+    """The functions generated up front: those of M, b, g, b + g and the frames of derive(frames=...)."""
+    return [k for k in eom.compact if k in ("M", "b", "g", "nle") or k.split(":")[0] in ("J", "Jdot_u")]
+
+
 class NumericEoM:
     """Numeric M(q), b(q, u), g(q), tau(q, u), T(q, u), U(q), frame Jacobians, forward dynamics and
     (free cut) joint reactions of one `EquationsOfMotion`.
@@ -52,9 +57,8 @@ class NumericEoM:
                                                            "ud": list(eom.system.ud), "p": self.params})
         self.functions: dict[str, Generated] = {}
         self._python: dict[str, Callable] = {}  # Python versions for mpmath references
-        for name in ("M", "b", "g", "nle"):  # T, U and tau are written when first asked for
-            if name in eom.compact:  # derive(quantities=...) may leave some out
-                self._function(name, lambda name=name: eom.compact[name], symmetric=name == "M")
+        for name in eager(eom):  # T, U, tau and other frames are written when first asked for
+            self._function(name, lambda name=name: eom.compact[name], symmetric=name == "M")
 
     @property
     def sources(self) -> dict[str, str]:

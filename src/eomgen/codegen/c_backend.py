@@ -14,12 +14,10 @@ from . import Generated, NumericEoM
 from .extension import build, compiler
 from .numpy_backend import C, C_TRIG, FunctionWriter
 
-EAGER = ("M", "b", "g", "nle")
-
-
 class CompiledEoM(NumericEoM):
-    """`NumericEoM` with every function compiled from C (per call and batched). M, b, g and nle are
-    built in one extension module up front; the others in a module each on first use."""
+    """`NumericEoM` with every function compiled from C (per call and batched). M, b, g, nle and the
+    frames derived with them are built in one extension module up front; the others in a module each
+    on first use."""
 
     def __init__(self, eom: EquationsOfMotion) -> None:
         compiler()  # a clear error before any work
@@ -27,13 +25,15 @@ class CompiledEoM(NumericEoM):
                                                        "ud": list(eom.system.ud),
                                                        "p": sorted(eom.system.parameters, key=str)}, C_TRIG)
         self._pending: dict = {}
-        super().__init__(eom)  # registers the eager functions (deferred), then builds them together
-        self._build([k for k in EAGER if k in self._pending])
+        self._deferring = True
+        super().__init__(eom)  # registers the eager functions, then builds them together
+        self._deferring = False
+        self._build(list(self._pending))
 
     def _function(self, key, build, symmetric=False) -> Generated:
         if key not in self.functions:
             self._pending[key] = (build, symmetric)
-            if key not in EAGER:
+            if not self._deferring:
                 self._build([key])
         return self.functions.get(key)
 

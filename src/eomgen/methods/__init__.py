@@ -9,6 +9,7 @@ from ..model.system import System
 from . import free_cut, lagrange, projected_newton_euler, recursive
 from .flexible import flexible_mass
 
+QUANTITIES = ("M", "b", "g")
 METHODS = {
     "free_cut": free_cut.derive,
     "projected_newton_euler": projected_newton_euler.derive,
@@ -17,12 +18,16 @@ METHODS = {
 }
 
 
-def derive(system: System, method: str = "projected_newton_euler", quantities=None) -> EquationsOfMotion:
+def derive(system: System, method: str = "projected_newton_euler", quantities=None,
+           frames=None) -> EquationsOfMotion:
     """Equations of motion M u̇ + b + g = τ + Sᵀ τ_a of `system` by `method`
     ("projected_newton_euler" (default), "lagrange", "free_cut", or "recursive": the body-frame
     composite-rigid-body and recursive Newton-Euler algorithms, which give the cheapest code).
-    `quantities`, a subset of ("M", "b", "g") (method "recursive"): derive only those, e.g. ("g",)
-    for gravity compensation."""
+
+    Model only what a scene requires: `quantities`, a subset of ("M", "b", "g") (default all), derives
+    only those, e.g. ("g",) for gravity compensation (() for none); `frames`, frame or body names whose
+    Jacobian J and J̇ u are derived with the equations (and generated with them), e.g. the contact
+    frames of a scene. The other frames' Jacobians are still derived when first asked for."""
     if not isinstance(system, System):
         raise TypeError(f"derive expects an eomgen.System, got {type(system).__name__}")
     if method not in METHODS:
@@ -43,10 +48,16 @@ def derive(system: System, method: str = "projected_newton_euler", quantities=No
     total = sum((b.mass for b in system.bodies), 0) + flexible_mass(system)
     if total == 0:
         raise ModelError("the total mass of the system is zero: M would be singular")
-    if quantities is not None:
-        wrong = sorted(set(quantities) - {"M", "b", "g"})
-        if wrong or method != "recursive":
-            raise ModelError(f"quantities: a subset of ('M', 'b', 'g') with method 'recursive'; got {quantities!r} "
-                             f"with {method!r}")
-        return recursive.derive(Kinematics(system), tuple(quantities))
-    return METHODS[method](Kinematics(system))
+    quantities = QUANTITIES if quantities is None else (quantities,) if isinstance(quantities, str) else tuple(quantities)
+    wrong = sorted(set(quantities) - set(QUANTITIES))
+    if wrong:
+        raise ModelError(f"quantities: a subset of {QUANTITIES}; unknown {wrong}")
+    frames = [frames] if isinstance(frames, str) else list(frames or [])
+    kin = Kinematics(system)
+    for frame in frames:
+        kin.jacobian(frame)  # an unknown name is an error here, before any derivation
+    eom = METHODS[method](kin, tuple(k for k in QUANTITIES if k in quantities))
+    for frame in frames:
+        eom.compact[f"J:{frame}"] = kin.jacobian(frame)
+        eom.compact[f"Jdot_u:{frame}"] = kin.jacobian_dot_u(frame)
+    return eom

@@ -31,7 +31,9 @@ from .applied import add_armature, applied_wrenches, potential_energy
 Wrench = tuple[sp.Matrix, sp.Matrix]
 
 
-def derive(kin: Kinematics) -> EquationsOfMotion:
+def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
+    """The elimination above; with only some of M, b, g requested, only their wrenches are propagated
+    (and the joint wrenches and reactions, which need all three, are not formed)."""
     system, sub, n = kin.system, kin.sub, kin.n
     moving = [b for b in system.bodies if kin.chain[b]]
     zero = sp.zeros(3, 1)
@@ -40,39 +42,45 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
         return scale(body.mass, J_P_col), matmul(kin.inertia_world(body), J_R_col)
 
     columns = []  # M[:, j] from the wrenches of u̇ = e_j
-    for j in range(n):
+    for j in range(n if "M" in quantities else 0):
         terms = {b: inertial(b, kin.J_P(Point(b, b.com))[:, j], kin.J_R(b)[:, j])
                  for b in moving if j in [k.index for k in kin.chain[b]]}
         columns.append(propagate(kin, terms))
-    bias = propagate(kin, {b: (scale(b.mass, kin.Jdot_u_P(Point(b, b.com))),
-                               matmul(kin.inertia_world(b), kin.Jdot_u_R(b))
-                               + cross(kin.omega(b), sub.add_matrix(matmul(kin.inertia_world(b), kin.omega(b)))))
-                           for b in moving})
-    gravity = propagate(kin, {b: (scale(-b.mass, system.gravity), zero) for b in system.bodies})
+    parts = {"M": columns}
+    if "b" in quantities:
+        parts["b"] = propagate(kin, {b: (scale(b.mass, kin.Jdot_u_P(Point(b, b.com))),
+                                         matmul(kin.inertia_world(b), kin.Jdot_u_R(b))
+                                         + cross(kin.omega(b), sub.add_matrix(matmul(kin.inertia_world(b), kin.omega(b)))))
+                                     for b in moving})
+    if "g" in quantities:
+        parts["g"] = propagate(kin, {b: (scale(-b.mass, system.gravity), zero) for b in system.bodies if b.mass != 0})
     loads = {load.name: propagate(kin, external_terms(kin, [load], sign=-1)) for load in system.loads}
 
     joints = [b for b in system.bodies if b.index is not None]
-    M = sp.zeros(n, n)
-    for j, W in enumerate(columns):
-        for b in joints:
-            M[b.index, j] = free_component(kin, b, W[b])
-    add_armature(kin, M)
-    compact = {"M": M,
-               "b": sp.Matrix(n, 1, lambda i, _: free_component(kin, joints[i], bias[joints[i]])),
-               "g": sp.Matrix(n, 1, lambda i, _: free_component(kin, joints[i], gravity[joints[i]])),
-               "U": potential_energy(kin)}
     u = sp.Matrix(kin.u)
-    compact["T"] = dot(u, matmul(M, u)) / 2
+    compact = {"U": potential_energy(kin)}
+    if "M" in quantities:
+        M = compact["M"] = sp.zeros(n, n)
+        for j, W in enumerate(columns):
+            for b in joints:
+                M[b.index, j] = free_component(kin, b, W[b])
+        add_armature(kin, M)
+        compact["T"] = dot(u, matmul(M, u)) / 2
+    for key in ("b", "g"):
+        if key in parts:
+            compact[key] = sp.Matrix(n, 1, lambda i, _: free_component(kin, joints[i], parts[key][joints[i]]))
     for name, W in loads.items():
         compact[f"tau:{name}"] = sp.Matrix(n, 1, lambda i, _: -free_component(kin, joints[i], W[joints[i]]))
+    if len(quantities) < 3:
+        return EquationsOfMotion(kin, "free_cut", compact)
 
     ud = list(system.ud)
     wrenches, reactions = {}, {}
     for b in system.bodies:
-        parts = [(W[b], ud[j]) for j, W in enumerate(columns)] + [(bias[b], 1), (gravity[b], 1)]
-        parts += [(W[b], 1) for W in loads.values()]
-        F = sub.add_matrix(sum((scale(c, w[0]) for w, c in parts), zero))
-        T = sub.add_matrix(sum((scale(c, w[1]) for w, c in parts), zero))
+        terms = [(W[b], ud[j]) for j, W in enumerate(columns)] + [(parts["b"][b], 1), (parts["g"][b], 1)]
+        terms += [(W[b], 1) for W in loads.values()]
+        F = sub.add_matrix(sum((scale(c, w[0]) for w, c in terms), zero))
+        T = sub.add_matrix(sum((scale(c, w[1]) for w, c in terms), zero))
         wrenches[b.joint.name] = F.col_join(T)
         reactions[b.joint.name] = _without_free_component(kin, b, F, T)
     extras = {"joint_wrenches": wrenches, "reactions": reactions, "cut_equations": lambda: cut_equations(kin)}

@@ -7,7 +7,7 @@ v_S = ṙ_S, Ω_B = vee(Rᵀ Ṙ). Then
     b = d/dt p |_(u̇=0) − ∂T/∂q,                  g = ∂U_gravity/∂q,  U_gravity = −Σ mᵢ g⃗ · r_Sᵢ
     τ = F · ∂v/∂u + T · ∂Ω/∂u − ∂U_spring/∂q − ∂D/∂u
 from the virtual power of the applied forces and torques (efforts held fixed) and the Rayleigh
-function D of the dampers."""
+function D of the dampers. Only the requested quantities are formed: g alone needs no velocities."""
 from __future__ import annotations
 
 import sympy as sp
@@ -21,8 +21,9 @@ from ..model import FlexibleLink
 from .applied import spring_potential, world
 
 
-def derive(kin: Kinematics) -> EquationsOfMotion:
+def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     system, sub, n = kin.system, kin.sub, kin.n
+    kinetic = {"M", "b"} & set(quantities)
     q, u = kin.q, kin.u
     dq = [{qj: 1} for qj in q]
     du = [{uj: 1} for uj in u]
@@ -37,7 +38,7 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
     for body in system.bodies:
         r_S = kin.com(body)
         U_gravity += -body.mass * (system.gravity.T * r_S)[0]
-        if not kin.chain[body]:
+        if not kin.chain[body] or not kinetic:
             continue
         v_S = kin.time_derivative(r_S)
         Omega_B = angular_velocity_body(kin, body)
@@ -52,12 +53,16 @@ def derive(kin: Kinematics) -> EquationsOfMotion:
             T_parts.append(T_flex)
             U_gravity += U_flex
             U_elastic.append(U_el)
-    T = sp.Add(*T_parts)
-    p = [sub.add(d_du(T, j)) for j in range(n)]
-    M = sp.Matrix(n, n, lambda i, j: d_du(p[i], j))
-    b = sp.Matrix([sub.derivative(p[i], kin.time_seeds, TIME) - d_dq(T, i) for i in range(n)])
-    g = sp.Matrix([d_dq(U_gravity, i) for i in range(n)])
-    compact = {"M": M, "b": b, "g": g, "T": T}
+    compact = {}
+    if kinetic:
+        T = compact["T"] = sp.Add(*T_parts)
+        p = [sub.add(d_du(T, j)) for j in range(n)]
+        if "M" in quantities:
+            compact["M"] = sp.Matrix(n, n, lambda i, j: d_du(p[i], j))
+        if "b" in quantities:
+            compact["b"] = sp.Matrix([sub.derivative(p[i], kin.time_seeds, TIME) - d_dq(T, i) for i in range(n)])
+    if "g" in quantities:
+        compact["g"] = sp.Matrix([d_dq(U_gravity, i) for i in range(n)])
     U = U_gravity
     if U_elastic:  # bending: U_e enters like a spring, as a generalized force −∂U_e/∂q
         U_e = sub.add(sp.Add(*U_elastic))

@@ -4,7 +4,9 @@
     b = Σ_i J_Pᵢᵀ mᵢ J̇_Pᵢ u + J_Rᵢᵀ (Θᵢ J̇_Rᵢ u + Ωᵢ × Θᵢ Ωᵢ)
     g = −Σ_i J_Pᵢᵀ mᵢ g⃗
     τ = Σ J_Pᵀ F + J_Rᵀ T   for every applied force F and torque T
-(J_P of the centre of mass, Θ about it, all in world axes), plus each joint's armature on M's diagonal."""
+(J_P of the centre of mass, Θ about it, all in world axes), plus each joint's armature on M's diagonal.
+Only the requested quantities are formed; a body without mass and inertia is not visited, and for g
+alone neither are the massless ones nor any rotation Jacobian."""
 from __future__ import annotations
 
 import sympy as sp
@@ -16,29 +18,43 @@ from ..model.loads import Point
 from .applied import add_armature, generalized_force, potential_energy
 
 
-def derive(kin: Kinematics) -> EquationsOfMotion:
+def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     system, sub, n = kin.system, kin.sub, kin.n
     u = sp.Matrix(kin.u)
     M, b, g = sp.zeros(n, n), sp.zeros(n, 1), sp.zeros(n, 1)
+    inertial = {"M", "b"} & set(quantities)
     for body in system.bodies:
-        if not kin.chain[body]:
+        if not kin.chain[body] or (body.mass == 0 and (not inertial or body.inertia.is_zero_matrix)):
             continue
         idx = [i for k in kin.chain[body] for i, _, _ in kin.columns[k]]
         S = Point(body, body.com)
-        J_P, J_R = kin.J_P(S)[:, idx], kin.J_R(body)[:, idx]
+        J_P = kin.J_P(S)[:, idx]
+        if "g" in quantities:
+            _accumulate(g, idx, matmul(J_P.T, scale(-body.mass, system.gravity)))
+        if not inertial:
+            continue
+        J_R = kin.J_R(body)[:, idx]
         Theta, Omega = kin.inertia_world(body), kin.omega(body)
-        ThetaJ_R = sub.add_matrix(matmul(Theta, J_R))
-        M_i = scale(body.mass, matmul(J_P.T, J_P)) + matmul(J_R.T, ThetaJ_R)
-        b_i = matmul(J_P.T, scale(body.mass, kin.Jdot_u_P(S))) + matmul(J_R.T, (
-            matmul(Theta, kin.Jdot_u_R(body)) + cross(Omega, sub.add_matrix(matmul(Theta, Omega)))))
-        g_i = matmul(J_P.T, scale(-body.mass, system.gravity))
-        for a, i in enumerate(idx):
-            b[i] += b_i[a]
-            g[i] += g_i[a]
-            for c, j in enumerate(idx):
-                M[i, j] += M_i[a, c]
+        if "M" in quantities:
+            ThetaJ_R = sub.add_matrix(matmul(Theta, J_R))
+            _accumulate(M, idx, scale(body.mass, matmul(J_P.T, J_P)) + matmul(J_R.T, ThetaJ_R))
+        if "b" in quantities:
+            _accumulate(b, idx, matmul(J_P.T, scale(body.mass, kin.Jdot_u_P(S))) + matmul(J_R.T, (
+                matmul(Theta, kin.Jdot_u_R(body)) + cross(Omega, sub.add_matrix(matmul(Theta, Omega))))))
     add_armature(kin, M)
     compact = {"M": M, "b": b, "g": g, "T": dot(u, matmul(M, u)) / 2, "U": potential_energy(kin)}
+    for key in ("M", "b", "g"):
+        if key not in quantities:
+            del compact[key]
+    if "M" not in quantities:
+        del compact["T"]
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "projected_newton_euler", compact)
+
+
+def _accumulate(total: sp.Matrix, idx: list[int], part: sp.Matrix) -> None:
+    """total[idx, idx] += part (a body's contribution on the speeds of its chain), in place."""
+    for a, i in enumerate(idx):
+        for c in range(part.shape[1]):
+            total[i, idx[c] if total.shape[1] > 1 else 0] += part[a, c]
