@@ -36,6 +36,10 @@ def test_write_c_is_deterministic_and_compiles(tmp_path):
     subprocess.run(["cc", str(main), str(c1), "-o", str(exe), "-lm"], check=True)
     out = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout
     assert abs(float(out) - eg.codegen(eom).M(np.zeros(6))[0, 0]) < 1e-10
+    g_only = eg.derive(eg.robots.load("ur5"), method="recursive", quantities=("g",), frames=["tool0"])
+    c3, h3 = eg.write_c(g_only, tmp_path / "c", name="gc")
+    header = h3.read_text()
+    assert "gc_g(" in header and "gc_M(" not in header and "frame tool0" in header and "gc_J_0(" in header
 
 
 def test_no_compiler_is_a_clear_error(monkeypatch):
@@ -44,6 +48,15 @@ def test_no_compiler_is_a_clear_error(monkeypatch):
     with pytest.raises(eg.ModelError, match="no C compiler found.*NumPy backend works without one"):
         eg.codegen(eom, backend="c")
     assert eg.codegen(eom).M(np.zeros(2)).shape == (2, 2)
+
+
+def test_no_python_headers_is_a_clear_error(monkeypatch, tmp_path):
+    from eomgen.codegen import extension
+
+    monkeypatch.setattr(extension.sysconfig, "get_paths", lambda: {"include": str(tmp_path)})
+    eom = eg.derive(eg.robots.load("double_pendulum"))
+    with pytest.raises(eg.ModelError, match="needs the Python headers.*NumPy backend works without them"):
+        eg.codegen(eom, backend="c")
 
 
 def test_ur5_operation_counts_and_nonlinear_effects():
@@ -79,6 +92,8 @@ def test_extension_inputs_parameters_and_frames(tmp_path, monkeypatch):
         np.testing.assert_allclose(getattr(fc, key)(*args, params=params), getattr(fn, key)(*args, params=params),
                                    rtol=1e-13, atol=1e-14, err_msg=key)
     np.testing.assert_allclose(fc.jacobian("tip", q, params), fn.jacobian("tip", q, params), rtol=1e-13, atol=1e-14)
+    np.testing.assert_allclose(fc.reference("J:tip", q[0], params=params).astype(float), fn.jacobian("tip", q[0], params),
+                               rtol=1e-15, atol=1e-15)  # 50-digit reference of a compiled function
     M_closed = sp.lambdify([*system.q, m_c, m_p, l], eom.M.subs(g, 9.81))
     np.testing.assert_allclose(fc.M(q[7], params), M_closed(*q[7], 2.0, 0.5, 0.8), rtol=1e-14)
     one = np.array([fc.b(q[k], u[k], params) for k in range(300)])
@@ -105,3 +120,24 @@ def test_extension_is_cached(tmp_path, monkeypatch):
     f = eg.codegen(eom, backend="c")
     assert {p: p.stat().st_mtime_ns for p in tmp_path.iterdir()} == built
     assert f.M(np.zeros(2)).shape == (2, 2)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", eg.robots.names(floating_base=False) + eg.robots.names(floating_base=True))
+def test_every_robot_compiled(name, tmp_path, monkeypatch):
+    """Every robot of the earlier tests, compiled: C = NumPy to 1e-12 (batched and one state) and
+    = Pinocchio to 1e-10 (M, b, g, end-frame J and J̇u). Run with -m slow."""
+    import warnings
+
+    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # files with inertias Pinocchio takes as they are
+        system = eg.robots.load(name)
+    report = verify(system, method="recursive", backend="c", states=10, seed=3)
+    assert report.ok(1e-10), str(report)
+    eom = eg.derive(system, method="recursive")
+    fc, fn = eg.codegen(eom, backend="c"), eg.codegen(eom)
+    q, u, _ = eg.random_states(system, 20, np.random.default_rng(14))
+    for key, c, py in [("M", fc.M(q), fn.M(q)), ("b", fc.b(q, u), fn.b(q, u)), ("g", fc.g(q), fn.g(q)),
+                       ("M one state", fc.M(q[0]), fn.M(q[0])), ("b one state", fc.b(q[0], u[0]), fn.b(q[0], u[0]))]:
+        np.testing.assert_allclose(c, py, rtol=1e-12, atol=1e-12 * max(1.0, np.abs(py).max()), err_msg=key)

@@ -6,7 +6,8 @@ from eomgen.__main__ import main
 
 
 def test_tradeoff_ur5(tmp_path):
-    variants = {v.name.split(":")[0].split(" below")[0]: v for v in eg.tradeoff(eg.robots.load("ur5"), states=50)}
+    variants = {v.name.split(":")[0].split(" below")[0]: v
+                for v in eg.tradeoff(eg.robots.load("ur5"), states=50, levels=("closed", "cse"))}
     full = variants["full model (recursive, float64)"]
     assert full.errors["M"][0] == 0 and full.ops < variants["projected Newton-Euler code"].ops
     assert max(variants["projected Newton-Euler code"].errors[k][0] for k in ("M", "b", "g")) < 1e-13
@@ -16,6 +17,26 @@ def test_tradeoff_ur5(tmp_path):
     locked = variants["joints locked"]
     assert max(locked.errors[k][0] for k in ("M", "b", "g")) < 1e-13 and locked.errors["ud"][0] > 1e-6
     assert variants["links as point masses"].errors["M"][0] > 1e-3
+    closed, cse = variants["closed forms, nothing shared"], variants["closed forms + sympy CSE"]
+    assert max(max(v.errors[k][0] for k in ("M", "b", "g")) for v in (closed, cse)) < 1e-13  # exact rewrites
+    assert closed.ops > 50 * full.ops and full.ops < cse.ops < 2 * full.ops
     png, table = tmp_path / "pareto.png", tmp_path / "table.json"
-    assert main(["tradeoff", "ur5", "--states", "20", "--png", str(png), "--json", str(table)]) == 0
-    assert png.stat().st_size > 10_000 and len(json.loads(table.read_text())) == 8
+    assert main(["tradeoff", "ur5", "--states", "20", "--levels", "cse", "--png", str(png), "--json", str(table)]) == 0
+    assert png.stat().st_size > 10_000 and len(json.loads(table.read_text())) == 9
+
+
+def test_trigonometric_simplification_level():
+    """The double pendulum: trigsimp of every closed-form entry, then CSE, gives the same numbers
+    and fewer operations than the closed forms; unknown levels are an error."""
+    import pytest
+
+    from eomgen.simplification import simplified
+    from models import double_pendulum
+
+    system = double_pendulum(numeric=True)
+    variants = {v.name: v for v in eg.tradeoff(system, states=30, trig_max_ops=10_000)}
+    trig = variants["trigsimp (8/8 entries) + CSE"]  # M (4), b (2), g (2)
+    assert max(trig.errors[k][0] for k in ("M", "b", "g", "ud")) < 1e-13
+    assert trig.ops < variants["closed forms, nothing shared"].ops and trig.ops < variants["full model (recursive, float64)"].ops
+    with pytest.raises(eg.ModelError, match="unknown simplification level 'full'"):
+        simplified(eg.derive(system), "full")

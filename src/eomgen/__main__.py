@@ -35,6 +35,8 @@ def main(argv: list[str] | None = None) -> int:
     tr.add_argument("--states", type=int, default=200)
     tr.add_argument("--png", help="write the Pareto plot (error against evaluation time) here")
     tr.add_argument("--json", help="write the table as JSON here")
+    tr.add_argument("--levels", default="closed,cse,trig", help="simplification levels to include (comma-separated)")
+    tr.add_argument("--trig-max-ops", type=int, default=300, help="trigsimp only closed-form entries this small")
     gen = sub.add_parser("generate", help="write a numpy-only Python module")
     gen.add_argument("robot", help="example-robot-data name or URDF path")
     gen.add_argument("-o", "--output", required=True, help="the .py file to write")
@@ -54,7 +56,8 @@ def main(argv: list[str] | None = None) -> int:
 
             from .tradeoff import HEADER, pareto_plot, tradeoff
 
-            variants = tradeoff(system, states=args.states)
+            levels = [x for x in args.levels.split(",") if x]
+            variants = tradeoff(system, states=args.states, levels=levels, trig_max_ops=args.trig_max_ops)
             print(HEADER)
             for v in variants:
                 print(v.row())

@@ -1,7 +1,12 @@
 """The speed-accuracy trade, measured: variants of one model side by side, each with its derivation
 time, operation count, evaluation time per state (batched NumPy), and the maximum and RMS relative
 error of M, b, g and of the forward-dynamics acceleration against the full float64 model over a fixed
-set of random states (u̇ with zero joint torques)."""
+set of random states (u̇ with zero joint torques).
+
+Variants: the simplification level of the code (eomgen's shared intermediates; the closed forms with
+nothing shared; sympy's CSE of them; trigsimp of the closed-form entries then CSE), the derivation
+(projected Newton-Euler), the precision (float32), and approximate models: Coriolis and centrifugal
+terms neglected, light bodies dropped, links as point masses, small inertias neglected, joints locked."""
 from __future__ import annotations
 
 import time
@@ -13,6 +18,7 @@ import sympy as sp
 from .codegen import codegen
 from .methods import derive
 from .model import System
+from .simplification import LEVELS, simplified
 from .state import random_states
 
 
@@ -45,8 +51,11 @@ def _numbers(expr) -> float:
 
 
 def tradeoff(system: System, states: int = 200, seed: int = 0, mass_fraction: float = 0.05,
-             inertia_fraction: float = 0.05, lock: dict | None = None) -> list[Variant]:
-    """Measure the variants of a numeric, fixed- or floating-base `system` (see the module doc)."""
+             inertia_fraction: float = 0.05, lock: dict | None = None, levels=LEVELS,
+             trig_max_ops: int = 300) -> list[Variant]:
+    """Measure the variants of a numeric, fixed- or floating-base `system` (see the module doc).
+    `levels`: the simplification levels to include (trigsimp is slow: it gets only the closed-form
+    entries of at most `trig_max_ops` operations)."""
     rng = np.random.default_rng(seed)
     q, u, _ = random_states(system, states, rng)
 
@@ -79,6 +88,17 @@ def tradeoff(system: System, states: int = 200, seed: int = 0, mass_fraction: fl
         return Variant(name, seconds, sum(f.ops[k] for k in ("M", "b", "g")), us_, errors)
 
     out = [variant("full model (recursive, float64)", full, t_full, M0, b0, g0, us)]
+    titles = {"closed": "closed forms, nothing shared", "cse": "closed forms + sympy CSE", "trig": "trigsimp"}
+    for level in levels:
+        t0 = time.perf_counter()
+        f = codegen(simplified(full.eom, level, trig_max_ops))
+        seconds = t_full + time.perf_counter() - t0
+        (M, b, g), us_l = timing(f, q, u)
+        title = titles[level]
+        if level == "trig":
+            done, total = f.eom.extras["trigsimp_entries"]
+            title = f"trigsimp ({done}/{total} entries) + CSE"
+        out.append(variant(title, f, seconds, M, b[..., 0], g[..., 0], us_l))
     pne, t_pne = build(system, "projected_newton_euler")
     (M, b, g), us_pne = timing(pne, q, u)
     out.append(variant("projected Newton-Euler code", pne, t_pne, M, b[..., 0], g[..., 0], us_pne))

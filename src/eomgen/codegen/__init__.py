@@ -57,6 +57,7 @@ class NumericEoM:
                                                            "ud": list(eom.system.ud), "p": self.params})
         self.functions: dict[str, Generated] = {}
         self._python: dict[str, Callable] = {}  # Python versions for mpmath references
+        self._built: dict[str, tuple[Callable, bool]] = {}  # how each function was built
         for name in eager(eom):  # T, U, tau and other frames are written when first asked for
             self._function(name, lambda name=name: eom.compact[name], symmetric=name == "M")
 
@@ -76,6 +77,7 @@ class NumericEoM:
 
     def _function(self, key: str, build: Callable[[], sp.Basic], symmetric: bool = False) -> Generated:
         """The generated function `key`, written on first request."""
+        self._built.setdefault(key, (build, symmetric))
         if key not in self.functions:
             source, shape, ops = self._writer.source("f", build(), symmetric)
             self.functions[key] = Generated(source, shape, ops, compile_function(source, key))
@@ -115,8 +117,8 @@ class NumericEoM:
         if key not in self.functions:
             self._on_demand(key)
         if key not in self._python:  # the Python text runs with any number type
-            self._python[key] = compile_function(self._writer.source("f", _expression(self.eom, key))[0], key) \
-                if key in ("M", "b", "g", "tau", "T", "U") else self.functions[key].function
+            expr, symmetric = self._built[key]
+            self._python[key] = compile_function(self._writer.source("f", expr(), symmetric)[0], key)
         with mpmath.workdps(digits):
             def mp(x, n):
                 return [mpmath.mpf(float(v)) for v in (np.zeros(n) if x is None else np.asarray(x, dtype=float))]

@@ -11,7 +11,7 @@ import numpy as np
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from . import Generated, NumericEoM
-from .extension import build, compiler
+from .extension import build, compiler, python_headers
 from .numpy_backend import C, C_TRIG, FunctionWriter
 
 class CompiledEoM(NumericEoM):
@@ -20,7 +20,7 @@ class CompiledEoM(NumericEoM):
     on first use."""
 
     def __init__(self, eom: EquationsOfMotion) -> None:
-        compiler()  # a clear error before any work
+        compiler(), python_headers()  # a clear error before any work
         self._c = FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u),
                                                        "ud": list(eom.system.ud),
                                                        "p": sorted(eom.system.parameters, key=str)}, C_TRIG)
@@ -31,6 +31,7 @@ class CompiledEoM(NumericEoM):
         self._build(list(self._pending))
 
     def _function(self, key, build, symmetric=False) -> Generated:
+        self._built.setdefault(key, (build, symmetric))
         if key not in self.functions:
             self._pending[key] = (build, symmetric)
             if not self._deferring:
@@ -75,16 +76,17 @@ class CompiledEoM(NumericEoM):
 
 
 def write_c(eom: EquationsOfMotion, directory, name: str = "eom", frames: list[str] | None = None) -> tuple[Path, Path]:
-    """Plain C (no Python) for a controller: <name>.c and <name>.h with <name>_M, <name>_b, <name>_g and
-    per frame <name>_J_<k>, <name>_Jdot_u_<k>, each (q, u, ud, p, out) with out row-major and zeroed by the caller."""
+    """Plain C (no Python) for a controller: <name>.c and <name>.h with <name>_M, <name>_b, <name>_g (those
+    derived) and per frame <name>_J_<k>, <name>_Jdot_u_<k> (default: the frames of derive(frames=...),
+    else all), each (q, u, ud, p, out) with out row-major and zeroed by the caller."""
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,63}", name):
         raise ModelError(f"write_c: name must be a C identifier, got {name!r}")
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     writer = FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u), "ud": list(eom.system.ud),
                                                   "p": sorted(eom.system.parameters, key=str)}, C)
-    frames = list(eom.system.frames) if frames is None else list(frames)
-    parts = [("M", eom.compact["M"], True), ("b", eom.compact["b"], False), ("g", eom.compact["g"], False)]
+    frames = list(eom.frames or eom.system.frames) if frames is None else list(frames)
+    parts = [(k, eom.compact[k], k == "M") for k in eom.quantities]
     for k, frame in enumerate(frames):
         parts += [(f"J_{k}", eom.kinematics.jacobian(frame), False), (f"Jdot_u_{k}", eom.kinematics.jacobian_dot_u(frame), False)]
     body, decls = ["#include <math.h>", f'#include "{name}.h"', ""], []

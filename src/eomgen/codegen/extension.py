@@ -172,6 +172,15 @@ def compiler() -> str:
     return path
 
 
+def python_headers() -> str:
+    """The folder holding Python.h, which an extension module is compiled against."""
+    include = sysconfig.get_paths()["include"]
+    if not (Path(include) / "Python.h").exists():
+        raise ModelError(f"the C backend needs the Python headers (no Python.h in {include}; on Debian: "
+                         "apt install python3-dev); the NumPy backend works without them")
+    return include
+
+
 def cache_dir() -> Path:
     folder = Path(os.environ.get("EOMGEN_CACHE", Path.home() / ".cache" / "eomgen"))
     folder.mkdir(parents=True, exist_ok=True)
@@ -206,7 +215,7 @@ def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_par
         with tempfile.TemporaryDirectory() as tmp:
             c_file, so_file = Path(tmp) / f"{name}.c", Path(tmp) / target.name
             c_file.write_text(source)
-            command = [compiler(), *FLAGS, f"-I{sysconfig.get_paths()['include']}", f"-I{np.get_include()}",
+            command = [compiler(), *FLAGS, f"-I{python_headers()}", f"-I{np.get_include()}",
                        str(c_file), "-o", str(so_file)]
             result = subprocess.run(command + ["-lmvec", "-lm"], capture_output=True, text=True)
             if result.returncode != 0:  # no libmvec here: scalar sin and cos
