@@ -14,6 +14,7 @@ from . import Generated, NumericEoM
 from .extension import build, compiler, python_headers
 from .numpy_backend import C, C_TRIG, FunctionWriter
 
+
 class CompiledEoM(NumericEoM):
     """`NumericEoM` with every function compiled from C (per call and batched). M, b, g, nle and the
     frames derived with them are built in one extension module up front; the others in a module each
