@@ -11,39 +11,47 @@ SOLO_FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
 TALOS_FEET = ["left_sole_link", "right_sole_link"]
 
 
-def _with_contacts(name, frames, kind):
+def _contacts(frames, kind):
+    return [(f, kind) for f in frames]
+
+
+def _with_contacts(name, frames, kind=None):
+    """The robot with contacts at `frames` (of `kind`, or (frame, kind) pairs) and its numeric equations."""
     system = eg.robots.load(name)
-    for f in frames:
-        system.add_contact(f, kind)
+    for f, k in (_contacts(frames, kind) if kind else frames):
+        system.add_contact(f, k)
     return system, eg.codegen(eg.derive(system, method="recursive"))
 
 
-def _pinocchio_constraints(model, frames, kind):
+def _pinocchio_constraints(model, contacts):
     models, datas = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
-    contact = pin.ContactType.CONTACT_3D if kind == "point" else pin.ContactType.CONTACT_6D
-    for f in frames:
+    for f, kind in contacts:
         frame = model.frames[model.getFrameId(f)]
-        c = pin.RigidConstraintModel(contact, model, frame.parentJoint, frame.placement,
-                                     pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+        c = pin.RigidConstraintModel(pin.ContactType.CONTACT_3D if kind == "point" else pin.ContactType.CONTACT_6D,
+                                     model, frame.parentJoint, frame.placement, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
         models.append(c)
         datas.append(c.createData())
     return models, datas
 
 
-@pytest.mark.parametrize("name,frames,kind", [("solo12", SOLO_FEET, "point"), ("talos", TALOS_FEET, "frame")])
-def test_constrained_dynamics_equals_pinocchio(name, frames, kind):
+@pytest.mark.parametrize("name,contacts", [
+    ("solo12", _contacts(SOLO_FEET, "point")),
+    ("talos", _contacts(TALOS_FEET, "frame")),
+    ("talos", _contacts(TALOS_FEET, "frame") + [("gripper_right_base_link", "point")]),  # a hand on a wall
+])
+def test_constrained_dynamics_equals_pinocchio(name, contacts):
     """Contact forces and accelerations at random states whose speeds respect the contacts
     (J_c u = 0, where the classical and spatial contact accelerations coincide), to 1e-8."""
-    system, f = _with_contacts(name, frames, kind)
+    system, f = _with_contacts(name, contacts)
     model = system.pinocchio_model
     data = model.createData()
-    models, datas = _pinocchio_constraints(model, frames, kind)
+    models, datas = _pinocchio_constraints(model, contacts)
     pin.initConstraintDynamics(model, data, models, datas)
     rng = np.random.default_rng(6)
     q, u, _ = random_states(system, 5, rng)
     for k in range(5):
         J = f.contact_jacobian(q[k])
-        assert J.shape == (len(frames) * (3 if kind == "point" else 6), system.nv)
+        assert J.shape == (sum(3 if kind == "point" else 6 for _, kind in contacts), system.nv)
         uk = u[k] - np.linalg.pinv(J) @ (J @ u[k])
         tau = rng.uniform(-2, 2, system.nv - 6)
         ud, F = f.constrained_dynamics(q[k], uk, tau)
