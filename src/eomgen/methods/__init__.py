@@ -38,10 +38,9 @@ def derive(system: System, method: str = "projected_newton_euler", quantities=No
         raise ModelError("the system has no moving joint (every body is fixed)")
     for joint in system.joints:
         euler = getattr(joint, "parametrization", None) == "euler"
-        if (isinstance(joint, FreeFlyer) and (method == "free_cut" or (method == "lagrange" and not euler)
-                                              or (method == "recursive" and euler))):
+        if isinstance(joint, FreeFlyer) and ((method == "lagrange" and not euler) or (method == "recursive" and euler)):
             raise ModelError(f"joint '{joint.name}': method {method!r} does not handle a "
-                             f"{joint.parametrization} free-flyer base; use 'projected_newton_euler'"
+                             f"{joint.parametrization} free-flyer base; use 'projected_newton_euler' or 'free_cut'"
                              + (" or 'lagrange'" if euler else " or 'recursive'"))
     if method != "lagrange" and any(isinstance(j, FlexibleLink) for j in system.joints):
         raise ModelError(f"method {method!r} does not handle flexible links; use 'lagrange'")

@@ -13,8 +13,9 @@ root gives each joint's wrench, moved to its origin:
     F_i = f_i + Σ_c F_c,    T_i = t_i + (r_Si − p_i) × f_i + Σ_c (T_c + (p_c − p_i) × F_c)
 
 (f_i, t_i the body's own inertial minus applied force and moment), and the generalized equation
-of joint i is its free component, τ_i = e_i · T_i (revolute) or e_i · F_i (prismatic). The terms
-multiplying u̇ give M, the bias terms b, gravity g, the loads τ."""
+of joint i is its free component, τ_i = e_i · T_i (revolute) or e_i · F_i (prismatic); a free-flyer
+base has six, w_k · F or w_k · T along its speed directions (its base axes, or the Euler-rate axes).
+The terms multiplying u̇ give M, the bias terms b, gravity g, the loads τ."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -24,7 +25,7 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
-from ..model import Fixed, Prismatic, Revolute
+from ..model import Fixed, FreeFlyer, Prismatic, Revolute
 from ..model.loads import Point
 from .applied import add_armature, applied_wrenches, potential_energy
 
@@ -41,10 +42,10 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     def inertial(body, J_P_col, J_R_col) -> Wrench:
         return scale(body.mass, J_P_col), matmul(kin.inertia_world(body), J_R_col)
 
+    speeds = {b: {i for k in kin.chain[b] for i, _, _ in kin.columns[k]} for b in moving}
     columns = []  # M[:, j] from the wrenches of u̇ = e_j
     for j in range(n if "M" in quantities else 0):
-        terms = {b: inertial(b, kin.J_P(Point(b, b.com))[:, j], kin.J_R(b)[:, j])
-                 for b in moving if j in [k.index for k in kin.chain[b]]}
+        terms = {b: inertial(b, kin.J_P(Point(b, b.com))[:, j], kin.J_R(b)[:, j]) for b in moving if j in speeds[b]}
         columns.append(propagate(kin, terms))
     parts = {"M": columns}
     if "b" in quantities:
@@ -56,21 +57,17 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
         parts["g"] = propagate(kin, {b: (scale(-b.mass, system.gravity), zero) for b in system.bodies if b.mass != 0})
     loads = {load.name: propagate(kin, external_terms(kin, [load], sign=-1)) for load in system.loads}
 
-    joints = [b for b in system.bodies if b.index is not None]
     u = sp.Matrix(kin.u)
     compact = {"U": potential_energy(kin)}
     if "M" in quantities:
-        M = compact["M"] = sp.zeros(n, n)
-        for j, W in enumerate(columns):
-            for b in joints:
-                M[b.index, j] = free_component(kin, b, W[b])
+        M = compact["M"] = sp.Matrix.hstack(*[free_components(kin, W) for W in columns])
         add_armature(kin, M)
         compact["T"] = dot(u, matmul(M, u)) / 2
     for key in ("b", "g"):
         if key in parts:
-            compact[key] = sp.Matrix(n, 1, lambda i, _: free_component(kin, joints[i], parts[key][joints[i]]))
+            compact[key] = free_components(kin, parts[key])
     for name, W in loads.items():
-        compact[f"tau:{name}"] = sp.Matrix(n, 1, lambda i, _: -free_component(kin, joints[i], W[joints[i]]))
+        compact[f"tau:{name}"] = -free_components(kin, W)
     if len(quantities) < 3:
         return EquationsOfMotion(kin, "free_cut", compact)
 
@@ -118,18 +115,25 @@ def external_terms(kin: Kinematics, loads, sign: int = 1) -> dict:
     return terms
 
 
-def free_component(kin: Kinematics, body, W: Wrench) -> sp.Expr:
-    """e · T (revolute) or e · F (prismatic): the joint force along the allowed motion."""
-    F, T = W
-    e = kin.e[body]
-    return dot(e, F if isinstance(body.joint, Prismatic) else T)
+def free_components(kin: Kinematics, W: dict) -> sp.Matrix:
+    """The generalized forces of joint wrenches W (at each joint origin): per speed u_i of a body's
+    joint, w_i · F (a direction of translation) or w_i · T (an axis of rotation)."""
+    tau = sp.zeros(kin.n, 1)
+    for body, cols in kin.columns.items():
+        F, T = W[body]
+        for i, kind, w in cols:
+            tau[i] = dot(w, F if kind == "P" else T)
+    return tau
 
 
 def _without_free_component(kin: Kinematics, body, F: sp.Matrix, T: sp.Matrix) -> sp.Matrix:
+    """The reaction: the joint wrench less its component along the joint's motion (a free flyer has none)."""
+    if isinstance(body.joint, FreeFlyer):
+        return sp.zeros(6, 1)
     if isinstance(body.joint, Revolute):
-        T = T - scale(free_component(kin, body, (F, T)), kin.e[body])
+        T = T - scale(dot(kin.e[body], T), kin.e[body])
     elif isinstance(body.joint, Prismatic):
-        F = F - scale(free_component(kin, body, (F, T)), kin.e[body])
+        F = F - scale(dot(kin.e[body], F), kin.e[body])
     return F.col_join(T)
 
 
@@ -177,6 +181,8 @@ def constrained_basis(joint) -> tuple[sp.Matrix, sp.Matrix]:
         return sp.eye(3), _perpendicular(joint.axis)
     if isinstance(joint, Prismatic):
         return _perpendicular(joint.axis), sp.eye(3)
+    if isinstance(joint, FreeFlyer):
+        return sp.zeros(3, 0), sp.zeros(3, 0)
     assert isinstance(joint, Fixed)
     return sp.eye(3), sp.eye(3)
 
