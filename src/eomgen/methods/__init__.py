@@ -38,10 +38,9 @@ def derive(system: System, method: str = "projected_newton_euler", quantities=No
         raise ModelError("the system has no moving joint (every body is fixed)")
     for joint in system.joints:
         euler = getattr(joint, "parametrization", None) == "euler"
-        if isinstance(joint, FreeFlyer) and ((method == "lagrange" and not euler) or (method == "recursive" and euler)):
-            raise ModelError(f"joint '{joint.name}': method {method!r} does not handle a "
-                             f"{joint.parametrization} free-flyer base; use 'projected_newton_euler' or 'free_cut'"
-                             + (" or 'lagrange'" if euler else " or 'recursive'"))
+        if isinstance(joint, FreeFlyer) and method == "recursive" and euler:
+            raise ModelError(f"joint '{joint.name}': method 'recursive' does not handle a ZYX Euler free-flyer "
+                             "base; use 'projected_newton_euler', 'free_cut' or 'lagrange'")
     if method != "lagrange" and any(isinstance(j, FlexibleLink) for j in system.joints):
         raise ModelError(f"method {method!r} does not handle flexible links; use 'lagrange'")
     total = sum((b.mass for b in system.bodies), 0) + flexible_mass(system)

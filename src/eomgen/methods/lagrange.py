@@ -7,17 +7,24 @@ v_S = ṙ_S, Ω_B = vee(Rᵀ Ṙ). Then
     b = d/dt p |_(u̇=0) − ∂T/∂q,                  g = ∂U_gravity/∂q,  U_gravity = −Σ mᵢ g⃗ · r_Sᵢ
     τ = F · ∂v/∂u + T · ∂Ω/∂u − ∂U_spring/∂q − ∂D/∂u
 from the virtual power of the applied forces and torques (efforts held fixed) and the Rayleigh
-function D of the dampers. Only the requested quantities are formed: g alone needs no velocities."""
+function D of the dampers. Only the requested quantities are formed: g alone needs no velocities.
+
+A quaternion free-flyer base has speeds that are not coordinate rates (u = (v, ω), the base twist
+in base axes, q̇ = W(q) u): its rows are Lagrange's equations in quasi-velocities (Hamel; Kirchhoff
+for a rigid body), with p_v = ∂T/∂v, p_ω = ∂T/∂ω and T independent of the base pose,
+
+    b_v = d/dt p_v + ω × p_v,   b_ω = d/dt p_ω + ω × p_ω + v × p_v,   g = ∂U̇/∂u = Wᵀ ∂U/∂q,
+and the joints' rows are the ones above with ∂/∂q taken along each joint's own coordinate."""
 from __future__ import annotations
 
 import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import TIME, Kinematics
-from ..linalg import dot
+from ..linalg import cross, dot
 from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
 from . import flexible
-from ..model import FlexibleLink
+from ..model import FlexibleLink, FreeFlyer
 from .applied import spring_potential, world
 
 
@@ -25,14 +32,19 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     system, sub, n = kin.system, kin.sub, kin.n
     kinetic = {"M", "b"} & set(quantities)
     q, u = kin.q, kin.u
-    dq = [{qj: 1} for qj in q]
     du = [{uj: 1} for uj in u]
-
-    def d_dq(expr, j):
-        return sub.derivative(expr, dq[j], ("q", j))
+    base = next((b for b in system.bodies if isinstance(b.joint, FreeFlyer)
+                 and b.joint.parametrization == "quaternion"), None)
+    coordinate = [i + (1 if base is not None and i >= base.index + 6 else 0) for i in range(n)]  # q index of u_i
 
     def d_du(expr, j):
         return sub.derivative(expr, du[j], ("u", j))
+
+    def d_dq(expr, j):
+        """∂expr/∂q along u_j: the joint's coordinate, or (quaternion base rows) ∂(d/dt expr)/∂u_j."""
+        if base is not None and base.index <= j < base.index + 6:
+            return d_du(sub.add(sub.derivative(expr, kin.time_seeds, TIME)), j)
+        return sub.derivative(expr, {q[coordinate[j]]: 1}, ("q", coordinate[j]))
 
     T_parts, U_gravity = [], sp.Integer(0)
     for body in system.bodies:
@@ -60,7 +72,13 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
         if "M" in quantities:
             compact["M"] = sp.Matrix(n, n, lambda i, j: d_du(p[i], j))
         if "b" in quantities:
-            compact["b"] = sp.Matrix([sub.derivative(p[i], kin.time_seeds, TIME) - d_dq(T, i) for i in range(n)])
+            b = [sub.derivative(p[i], kin.time_seeds, TIME) - (0 if base and i < base.index + 6 else d_dq(T, i))
+                 for i in range(n)]
+            if base is not None:  # Hamel's terms of the base twist
+                k = base.index
+                v, w, p_v, p_w = (sp.Matrix(x[k + a:k + a + 3]) for x, a in ((u, 0), (u, 3), (p, 0), (p, 3)))
+                b[k:k + 6] = list(sp.Matrix(b[k:k + 6]) + cross(w, p_v).col_join(cross(w, p_w) + cross(v, p_v)))
+            compact["b"] = sp.Matrix(b)
     if "g" in quantities:
         compact["g"] = sp.Matrix([d_dq(U_gravity, i) for i in range(n)])
     U = U_gravity
