@@ -182,4 +182,8 @@ def test_command_line(tmp_path):
     assert main(["verify", "double_pendulum", "--states", "3"]) == 0
     assert main(["generate", "asr_twodof", "-o", str(tmp_path / "two.py")]) == 0
     assert (tmp_path / "two.py").read_text().startswith('"""Equations of motion')
+    assert main(["generate", "ur5", "-o", str(tmp_path / "c"), "--c", "--name", "ur5"]) == 0
+    header = (tmp_path / "c" / "ur5.h").read_text()
+    assert "ur5_M(" in header and "ur5_J_0(" in header and (tmp_path / "c" / "ur5.c").exists()
+    assert main(["generate", "ur5", "-o", str(tmp_path / "c"), "--c", "--name", "not a C name"]) == 2
     assert main(["verify", "no_such_robot"]) == 2

@@ -1,4 +1,4 @@
-"""Command line: `eomgen verify NAME_OR_URDF`, `eomgen generate NAME_OR_URDF -o FILE`,
+"""Command line: `eomgen verify NAME_OR_URDF`, `eomgen generate NAME_OR_URDF -o FILE.py` (or `-o DIR --c`),
 `eomgen tradeoff NAME_OR_URDF [--png FILE]`."""
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import sys
 import time
 from pathlib import Path
 
-from .codegen import write_module
+from .codegen import write_c, write_module
 from .errors import ModelError
 from .methods import METHODS, derive
 from .model import System, from_urdf, robots
@@ -37,10 +37,12 @@ def main(argv: list[str] | None = None) -> int:
     tr.add_argument("--json", help="write the table as JSON here")
     tr.add_argument("--levels", default="closed,cse,trig", help="simplification levels to include (comma-separated)")
     tr.add_argument("--trig-max-ops", type=int, default=300, help="trigsimp only closed-form entries this small")
-    gen = sub.add_parser("generate", help="write a numpy-only Python module")
+    gen = sub.add_parser("generate", help="write a numpy-only Python module, or plain C for a controller")
     gen.add_argument("robot", help="example-robot-data name or URDF path")
-    gen.add_argument("-o", "--output", required=True, help="the .py file to write")
-    gen.add_argument("--method", default="projected_newton_euler", choices=sorted(METHODS))
+    gen.add_argument("-o", "--output", required=True, help="the .py file to write (with --c: the folder)")
+    gen.add_argument("--method", default="recursive", choices=sorted(METHODS))
+    gen.add_argument("--c", action="store_true", help="write <name>.c and <name>.h (M, b, g, end-frame J, J̇u)")
+    gen.add_argument("--name", default="eom", help="with --c: the C prefix and file name (default eom)")
     args = ap.parse_args(argv)
     try:
         system = load(args.robot)
@@ -67,8 +69,14 @@ def main(argv: list[str] | None = None) -> int:
                 Path(args.json).write_text(json.dumps([asdict(v) for v in variants], indent=2))
             return 0
         t0 = time.perf_counter()
-        path = write_module(derive(system, method=args.method), args.output)
-        print(f"wrote {path} ({system.nq} coordinates) in {time.perf_counter() - t0:.2f} s")
+        if args.c:
+            from .verify import end_frames
+
+            frames = end_frames(system)
+            paths = write_c(derive(system, method=args.method, frames=frames), args.output, name=args.name)
+        else:
+            paths = [write_module(derive(system, method=args.method), args.output)]
+        print(f"wrote {', '.join(map(str, paths))} ({system.nq} coordinates) in {time.perf_counter() - t0:.2f} s")
         return 0
     except ModelError as exc:
         print(f"eomgen: error: {exc}", file=sys.stderr)
