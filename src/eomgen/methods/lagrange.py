@@ -37,12 +37,15 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
                  and b.joint.parametrization == "quaternion"), None)
     coordinate = [i + (1 if base is not None and i >= base.index + 6 else 0) for i in range(n)]  # q index of u_i
 
+    def in_base(j):
+        return base is not None and base.index <= j < base.index + 6
+
     def d_du(expr, j):
         return sub.derivative(expr, du[j], ("u", j))
 
     def d_dq(expr, j):
         """∂expr/∂q along u_j: the joint's coordinate, or (quaternion base rows) ∂(d/dt expr)/∂u_j."""
-        if base is not None and base.index <= j < base.index + 6:
+        if in_base(j):
             return d_du(sub.add(sub.derivative(expr, kin.time_seeds, TIME)), j)
         return sub.derivative(expr, {q[coordinate[j]]: 1}, ("q", coordinate[j]))
 
@@ -72,8 +75,7 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
         if "M" in quantities:
             compact["M"] = sp.Matrix(n, n, lambda i, j: d_du(p[i], j))
         if "b" in quantities:
-            b = [sub.derivative(p[i], kin.time_seeds, TIME) - (0 if base and i < base.index + 6 else d_dq(T, i))
-                 for i in range(n)]
+            b = [sub.derivative(p[i], kin.time_seeds, TIME) - (0 if in_base(i) else d_dq(T, i)) for i in range(n)]
             if base is not None:  # Hamel's terms of the base twist
                 k = base.index
                 v, w, p_v, p_w = (sp.Matrix(x[k + a:k + a + 3]) for x, a in ((u, 0), (u, 3), (p, 0), (p, 3)))
