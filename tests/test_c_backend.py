@@ -141,3 +141,19 @@ def test_every_robot_compiled(name, tmp_path, monkeypatch):
     for key, c, py in [("M", fc.M(q), fn.M(q)), ("b", fc.b(q, u), fn.b(q, u)), ("g", fc.g(q), fn.g(q)),
                        ("M one state", fc.M(q[0]), fn.M(q[0])), ("b one state", fc.b(q[0], u[0]), fn.b(q[0], u[0]))]:
         np.testing.assert_allclose(c, py, rtol=1e-12, atol=1e-12 * max(1.0, np.abs(py).max()), err_msg=key)
+
+
+def test_example_runs(tmp_path, capsys):
+    import runpy
+    import sys
+    from pathlib import Path
+
+    argv = sys.argv
+    sys.argv = ["compiled_robot.py", str(tmp_path / "ur5_c")]
+    try:
+        runpy.run_path(str(Path(__file__).parents[1] / "examples" / "compiled_robot.py"), run_name="__main__")
+    finally:
+        sys.argv = argv
+    out = capsys.readouterr().out
+    assert "OK (tolerance 1e-10)" in out and "149 operations for g" in out
+    assert (tmp_path / "ur5_c" / "ur5.h").exists()
