@@ -13,7 +13,7 @@ from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..model import FreeFlyer
 from .contacts import contact_dynamics, row_names, support_projector
-from .numpy_backend import FunctionWriter, compile_function
+from .numpy_backend import PYTHON, FunctionWriter, compile_function
 from .runtime import runtime_namespace
 
 _runtime = runtime_namespace()
@@ -284,16 +284,23 @@ class NumericKane:
     """Numeric Kane's equations: mass_matrix(q, w), forcing(q, w), qdot(q, w), dependent_speeds(q, w),
     active_forces(q, w) in the independent speeds w, and `rhs(t, x)` for x = [q, w] (solve_ivp)."""
 
+    syntax = PYTHON
+
     def __init__(self, kane) -> None:
         self.kane = kane
         self.nq, self.nv = len(kane.system.q), len(kane.independent)
         self.params = sorted(kane.system.parameters, key=str)
         writer = FunctionWriter(kane.subexpressions, {"q": list(kane.system.q), "u": list(kane.independent),
-                                                      "ud": [], "p": self.params})
-        self.functions: dict[str, Generated] = {}
-        for key in ("mass_matrix", "forcing", "qdot", "dependent_speeds", "F_r"):
-            source, shape, ops = writer.source("f", kane.compact[key], symmetric=key == "mass_matrix")
-            self.functions[key] = Generated(source, shape, ops, compile_function(source, key))
+                                                      "ud": [], "p": self.params}, self.syntax)
+        written = []
+        for i, key in enumerate(("mass_matrix", "forcing", "qdot", "dependent_speeds", "F_r")):
+            source, shape, ops = writer.source(f"e{i}", kane.compact[key], symmetric=key == "mass_matrix")
+            written.append((key, source, shape, ops, writer.trig_indices))
+        self.functions: dict[str, Generated] = self._compile(written)
+
+    def _compile(self, written: list) -> dict[str, Generated]:
+        return {key: Generated(source, shape, ops, compile_function(source, key, f"e{i}"))
+                for i, (key, source, shape, ops, _) in enumerate(written)}
 
     _p = NumericEoM._p
 
@@ -328,13 +335,11 @@ def codegen(eom, backend: str = "numpy"):
     (compiled with the machine's C compiler; same functions, per call and batched)."""
     if backend not in BACKENDS:
         raise ModelError(f"unknown backend {backend!r}; available: {list(BACKENDS)}")
-    if hasattr(eom, "independent"):
-        return NumericKane(eom)
     if backend == "c":
-        from .c_backend import CompiledEoM
+        from .c_backend import CompiledEoM, CompiledKane
 
-        return CompiledEoM(eom)
-    return NumericEoM(eom)
+        return CompiledKane(eom) if hasattr(eom, "independent") else CompiledEoM(eom)
+    return NumericKane(eom) if hasattr(eom, "independent") else NumericEoM(eom)
 
 
 from .module import module_source, write_module  # noqa: E402  (module builds on NumericEoM)

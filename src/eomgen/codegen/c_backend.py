@@ -10,7 +10,7 @@ import numpy as np
 
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
-from . import Generated, NumericEoM
+from . import Generated, NumericEoM, NumericKane
 from .extension import build, compiler, python_headers
 from .numpy_backend import C, C_TRIG, FunctionWriter
 
@@ -45,9 +45,7 @@ class CompiledEoM(NumericEoM):
             expr, symmetric = self._pending.pop(key)
             source, shape, ops = self._c.source(f"e{i}", expr(), symmetric)
             written.append((key, source, shape, ops, self._c.trig_indices))
-        module = build([(source, shape, trig) for _, source, shape, _, trig in written], self.nq, self.nv, len(self.params))
-        for i, (key, source, shape, ops, _) in enumerate(written):
-            self.functions[key] = Generated(source, shape, ops, getattr(module, f"m{i}"), getattr(module, f"v{i}"))
+        self.functions.update(extension_functions(written, self.nq, self.nv, len(self.params)))
 
     def _pvec(self, params, key):
         return np.array(self._p(params, key), dtype=float) if self.params else None
@@ -74,6 +72,30 @@ class CompiledEoM(NumericEoM):
         if "nle" not in self.functions:
             return self.b(q, u, params) + self.g(q, params)
         return self.functions["nle"].vector(q, u, None, self._pvec(params, "nle"))
+
+
+def extension_functions(written: list, nq: int, nv: int, n_params: int) -> dict[str, Generated]:
+    """The written functions [(key, C source of e<i>, shape, operations, trig indices)], compiled into
+    one extension module."""
+    module = build([(source, shape, trig) for _, source, shape, _, trig in written], nq, nv, n_params)
+    return {key: Generated(source, shape, ops, getattr(module, f"m{i}"), getattr(module, f"v{i}"))
+            for i, (key, source, shape, ops, _) in enumerate(written)}
+
+
+class CompiledKane(NumericKane):
+    """`NumericKane` compiled from C: the same functions, per call and batched."""
+
+    syntax = C_TRIG
+
+    def __init__(self, kane) -> None:
+        compiler(), python_headers()
+        super().__init__(kane)
+
+    def _compile(self, written: list) -> dict[str, Generated]:
+        return extension_functions(written, self.nq, self.nv, len(self.params))
+
+    def _call(self, key, q, w, params):
+        return self.functions[key].function(q, w, None, np.array(self._p(params, key)) if self.params else None)
 
 
 def write_c(eom: EquationsOfMotion, directory, name: str = "eom", frames: list[str] | None = None) -> tuple[Path, Path]:
