@@ -180,6 +180,7 @@ def test_command_line(tmp_path):
     from eomgen.__main__ import main
 
     assert main(["verify", "double_pendulum", "--states", "3"]) == 0
+    assert main(["verify", "double_pendulum", "--states", "3", "--backend", "c", "--method", "recursive"]) == 0
     assert main(["generate", "asr_twodof", "-o", str(tmp_path / "two.py")]) == 0
     assert (tmp_path / "two.py").read_text().startswith('"""Equations of motion')
     assert main(["generate", "ur5", "-o", str(tmp_path / "c"), "--c", "--name", "ur5"]) == 0

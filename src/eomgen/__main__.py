@@ -29,6 +29,7 @@ def main(argv: list[str] | None = None) -> int:
     v.add_argument("robot", help="example-robot-data name (e.g. ur5) or URDF path")
     v.add_argument("--method", default="projected_newton_euler", choices=sorted(METHODS))
     v.add_argument("--states", type=int, default=20)
+    v.add_argument("--backend", default="numpy", choices=["numpy", "c"])
     v.add_argument("--frames", nargs="*", help="frames whose Jacobians to check (default: the end frames)")
     tr = sub.add_parser("tradeoff", help="measure approximate variants of a model against the full one")
     tr.add_argument("robot", help="example-robot-data name or URDF path")
@@ -49,7 +50,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "verify":
             from .verify import verify
 
-            report = verify(system, method=args.method, states=args.states, frames=args.frames)
+            report = verify(system, method=args.method, backend=args.backend, states=args.states, frames=args.frames)
             print(report)
             return 0 if report.ok() else 1
         if args.command == "tradeoff":
