@@ -206,13 +206,13 @@ def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: 
 
 
 def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int):
-    """Compile (once per distinct source, flags, Python and NumPy) and import the extension module."""
-    key = repr((functions, nq, nv, n_params, FLAGS, sys.version, np.__version__)).encode()
+    """Compile (once per distinct source, compiler, flags, Python and NumPy) and import the extension module."""
+    key = repr((functions, nq, nv, n_params, compiler(), FLAGS, sys.version, np.__version__)).encode()
     name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
     target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
     if not target.exists():
         source = module_source(name, functions, nq, nv, n_params)
-        with tempfile.TemporaryDirectory() as tmp:
+        with tempfile.TemporaryDirectory(dir=target.parent) as tmp:  # same file system: the move is a rename
             c_file, so_file = Path(tmp) / f"{name}.c", Path(tmp) / target.name
             c_file.write_text(source)
             command = [compiler(), *FLAGS, f"-I{python_headers()}", f"-I{np.get_include()}",
@@ -222,7 +222,7 @@ def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_par
                 result = subprocess.run(command + ["-DEOMGEN_NO_MVEC", "-lm"], capture_output=True, text=True)
             if result.returncode != 0:
                 raise ModelError(f"the C compiler failed: {result.stderr[:2000]}")
-            shutil.move(str(so_file), target)  # same bytes from any writer
+            os.replace(so_file, target)  # atomic; a concurrent writer leaves the same bytes
     if name in sys.modules:
         return sys.modules[name]
     loader = importlib.machinery.ExtensionFileLoader(name, str(target))
