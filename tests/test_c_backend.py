@@ -187,3 +187,15 @@ def test_the_whole_function_set_compiled(tmp_path, monkeypatch):
     q, u, _ = eg.random_states(solo, 1, rng)
     for c, py in zip(fc.constrained_dynamics(q[0], u[0], np.ones(12)), fn.constrained_dynamics(q[0], u[0], np.ones(12))):
         np.testing.assert_allclose(c, py, rtol=1e-10, atol=1e-10)
+
+
+def test_large_batches_run_over_the_cores(tmp_path, monkeypatch):
+    """Batches of 16 blocks and more go over the cores (OpenMP): the same numbers as NumPy, last and
+    partial block included."""
+    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
+    system = eg.robots.load("panda")
+    eom = eg.derive(system, method="recursive")
+    fc, fn = eg.codegen(eom, backend="c"), eg.codegen(eom)
+    q, u, _ = eg.random_states(system, 64 * 40 + 7, np.random.default_rng(28))
+    for c, py in [(fc.M(q), fn.M(q)), (fc.b(q, u), fn.b(q, u)), (fc.nle(q, u), fn.nle(q, u))]:
+        np.testing.assert_allclose(c, py, rtol=1e-12, atol=1e-12)

@@ -2,7 +2,8 @@
 cached by a hash of the source (and of the compiler flags, Python and NumPy it was built for), and
 imported. Each function `e<i>` is exposed twice: `m<i>(q, u=None, ud=None, p=None)` returns the
 output matrix (rows, cols), `v<i>` the column as a vector (rows,); q of shape (nq,) is one state,
-(N, nq) is N states evaluated in one C loop with the GIL released. Inputs are checked in C with the
+(N, nq) is N states evaluated in one C loop with the GIL released, over all cores for large N (OpenMP;
+OMP_NUM_THREADS=1 for one). Inputs are checked in C with the
 messages of the NumPy backend (the argument named, shapes, NaN and infinities)."""
 from __future__ import annotations
 
@@ -22,6 +23,8 @@ import numpy as np
 from ..errors import ModelError
 
 FLAGS = ["-O2", "-fno-math-errno", "-ftree-vectorize", "-fPIC", "-shared"]
+# batches over the cores with vector sin and cos; else one core, scalar sin and cos
+ATTEMPTS = (["-fopenmp", "-lmvec", "-lm"], ["-DEOMGEN_NO_MVEC", "-lm"])
 
 PRELUDE = r"""#define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -139,21 +142,34 @@ static PyObject *evaluate(eomgen_fn f, const int *idx, int nt, npy_intp rows, np
             }
             f(q, u, ud, p, sinq, cosq, out);
         } else {
-            double *sinq = malloc(2 * sizeof(double) * BLOCK * NQ), *cosq = sinq + BLOCK * NQ;
-            if (sinq == NULL) {
+            int failed = 0;
+            npy_intp blocks = (n + BLOCK - 1) / BLOCK;
+            Py_BEGIN_ALLOW_THREADS
+            /* blocks of states over the cores (OpenMP, OMP_NUM_THREADS) when the batch is large */
+            #pragma omp parallel if (blocks >= 16)
+            {
+                double *sinq = malloc(2 * sizeof(double) * BLOCK * NQ), *cosq = sinq + BLOCK * NQ;
+                #pragma omp for schedule(static)
+                for (npy_intp b = 0; b < blocks; ++b) {
+                    npy_intp k0 = b * BLOCK;
+                    int m = n - k0 < BLOCK ? (int)(n - k0) : BLOCK;
+                    if (sinq == NULL) {
+                        failed = 1;
+                        continue;
+                    }
+                    trig_block(q + k0 * NQ, m, idx, nt, sinq, cosq);
+                    for (npy_intp k = k0; k < k0 + m; ++k)
+                        f(q + k * NQ, u + k * su, ud + k * sud, p, sinq + (k - k0) * NQ, cosq + (k - k0) * NQ,
+                          out + k * size);
+                }
+                free(sinq);
+            }
+            Py_END_ALLOW_THREADS
+            if (failed) {
                 Py_CLEAR(result);
                 PyErr_NoMemory();
                 goto done;
             }
-            Py_BEGIN_ALLOW_THREADS
-            for (npy_intp k0 = 0; k0 < n; k0 += BLOCK) {
-                int m = n - k0 < BLOCK ? (int)(n - k0) : BLOCK;
-                trig_block(q + k0 * NQ, m, idx, nt, sinq, cosq);
-                for (npy_intp k = k0; k < k0 + m; ++k)
-                    f(q + k * NQ, u + k * su, ud + k * sud, p, sinq + (k - k0) * NQ, cosq + (k - k0) * NQ, out + k * size);
-            }
-            Py_END_ALLOW_THREADS
-            free(sinq);
         }
     }
 done:
@@ -207,7 +223,7 @@ def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: 
 
 def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int):
     """Compile (once per distinct source, compiler, flags, Python and NumPy) and import the extension module."""
-    key = repr((functions, nq, nv, n_params, compiler(), FLAGS, sys.version, np.__version__)).encode()
+    key = repr((functions, nq, nv, n_params, compiler(), FLAGS, ATTEMPTS, sys.version, np.__version__)).encode()
     name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
     target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
     if not target.exists():
@@ -217,9 +233,10 @@ def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_par
             c_file.write_text(source)
             command = [compiler(), *FLAGS, f"-I{python_headers()}", f"-I{np.get_include()}",
                        str(c_file), "-o", str(so_file)]
-            result = subprocess.run(command + ["-lmvec", "-lm"], capture_output=True, text=True)
-            if result.returncode != 0:  # no libmvec here: scalar sin and cos
-                result = subprocess.run(command + ["-DEOMGEN_NO_MVEC", "-lm"], capture_output=True, text=True)
+            for options in ATTEMPTS:  # the first that builds here
+                result = subprocess.run(command + options, capture_output=True, text=True)
+                if result.returncode == 0:
+                    break
             if result.returncode != 0:
                 raise ModelError(f"the C compiler failed: {result.stderr[:2000]}")
             os.replace(so_file, target)  # atomic; a concurrent writer leaves the same bytes
