@@ -13,7 +13,7 @@ from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..model import FreeFlyer
 from .contacts import contact_dynamics, row_names, support_projector
-from .numpy_backend import PYTHON, FunctionWriter, compile_function
+from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .runtime import runtime_namespace
 
 _runtime = runtime_namespace()
@@ -36,6 +36,12 @@ class Generated:
         self.params_used = {int(k) for k in re.findall(r"\b_p(\d+) =", self.source)}
 
 
+def writer(eom: EquationsOfMotion, syntax: Syntax = PYTHON) -> FunctionWriter:
+    """A function writer over the equations' intermediates, inputs q, u, u̇ and the parameters."""
+    return FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u), "ud": list(eom.system.ud),
+                                               "p": sorted(eom.system.parameters, key=str)}, syntax)
+
+
 def eager(eom: EquationsOfMotion) -> list[str]:
     """The functions generated up front: those of M, b, g, b + g and the frames of derive(frames=...)."""
     return [k for k in eom.compact if k in ("M", "b", "g", "nle") or k.split(":")[0] in ("J", "Jdot_u")]
@@ -53,8 +59,7 @@ class NumericEoM:
         self.eom = eom
         self.nq, self.nv = len(eom.q), len(eom.u)
         self.params = sorted(eom.system.parameters, key=str)
-        self._writer = FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u),
-                                                           "ud": list(eom.system.ud), "p": self.params})
+        self._writer = writer(eom)
         self.functions: dict[str, Generated] = {}
         self._python: dict[str, Callable] = {}  # Python versions for mpmath references
         self._built: dict[str, tuple[Callable, bool]] = {}  # how each function was built

@@ -10,9 +10,9 @@ import numpy as np
 
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
-from . import Generated, NumericEoM, NumericKane
+from . import Generated, NumericEoM, NumericKane, writer
 from .extension import build, compiler, python_headers
-from .numpy_backend import C, C_TRIG, FunctionWriter
+from .numpy_backend import C, C_TRIG
 
 
 class CompiledEoM(NumericEoM):
@@ -22,9 +22,7 @@ class CompiledEoM(NumericEoM):
 
     def __init__(self, eom: EquationsOfMotion) -> None:
         compiler(), python_headers()  # a clear error before any work
-        self._c = FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u),
-                                                       "ud": list(eom.system.ud),
-                                                       "p": sorted(eom.system.parameters, key=str)}, C_TRIG)
+        self._c = writer(eom, C_TRIG)
         self._pending: dict = {}
         self._deferring = True
         super().__init__(eom)  # registers the eager functions, then builds them together
@@ -94,8 +92,10 @@ class CompiledKane(NumericKane):
     def _compile(self, written: list) -> dict[str, Generated]:
         return extension_functions(written, self.nq, self.nv, len(self.params))
 
+    _pvec = CompiledEoM._pvec
+
     def _call(self, key, q, w, params):
-        return self.functions[key].function(q, w, None, np.array(self._p(params, key)) if self.params else None)
+        return self.functions[key].function(q, w, None, self._pvec(params, key))
 
 
 def write_c(eom: EquationsOfMotion, directory, name: str = "eom", frames: list[str] | None = None) -> tuple[Path, Path]:
@@ -106,15 +106,14 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom", frames: list[s
         raise ModelError(f"write_c: name must be a C identifier, got {name!r}")
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
-    writer = FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u), "ud": list(eom.system.ud),
-                                                  "p": sorted(eom.system.parameters, key=str)}, C)
+    c = writer(eom, C)
     frames = list(eom.frames or eom.system.frames) if frames is None else list(frames)
     parts = [(k, eom.compact[k], k == "M") for k in eom.quantities]
     for k, frame in enumerate(frames):
         parts += [(f"J_{k}", eom.kinematics.jacobian(frame), False), (f"Jdot_u_{k}", eom.kinematics.jacobian_dot_u(frame), False)]
     body, decls = ["#include <math.h>", f'#include "{name}.h"', ""], []
     for key, expr, symmetric in parts:
-        source, shape, _ = writer.source(f"{name}_{key}", expr, symmetric)
+        source, shape, _ = c.source(f"{name}_{key}", expr, symmetric)
         body.append(source)
         decls.append(f"/* out: {shape[0]} x {shape[1]} */\n" + source.split("\n")[0] + ";")
     frame_list = "".join(f"/*   {k}: frame {repr(f)[1:-1].replace('*/', '* /')} */\n" for k, f in enumerate(frames))

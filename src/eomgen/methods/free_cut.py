@@ -47,7 +47,7 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     for j in range(n if "M" in quantities else 0):
         terms = {b: inertial(b, kin.J_P(Point(b, b.com))[:, j], kin.J_R(b)[:, j]) for b in moving if j in speeds[b]}
         columns.append(propagate(kin, terms))
-    parts = {"M": columns}
+    parts = {}  # the wrenches of b and g
     if "b" in quantities:
         parts["b"] = propagate(kin, {b: (scale(b.mass, kin.Jdot_u_P(Point(b, b.com))),
                                          matmul(kin.inertia_world(b), kin.Jdot_u_R(b))

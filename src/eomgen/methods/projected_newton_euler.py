@@ -41,13 +41,11 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
         if "b" in quantities:
             _accumulate(b, idx, matmul(J_P.T, scale(body.mass, kin.Jdot_u_P(S))) + matmul(J_R.T, (
                 matmul(Theta, kin.Jdot_u_R(body)) + cross(Omega, sub.add_matrix(matmul(Theta, Omega))))))
-    add_armature(kin, M)
-    compact = {"M": M, "b": b, "g": g, "T": dot(u, matmul(M, u)) / 2, "U": potential_energy(kin)}
-    for key in ("M", "b", "g"):
-        if key not in quantities:
-            del compact[key]
-    if "M" not in quantities:
-        del compact["T"]
+    compact = {key: value for key, value in (("M", M), ("b", b), ("g", g)) if key in quantities}
+    if "M" in quantities:
+        add_armature(kin, M)
+        compact["T"] = dot(u, matmul(M, u)) / 2
+    compact["U"] = potential_energy(kin)
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "projected_newton_euler", compact)
