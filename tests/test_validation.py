@@ -107,9 +107,9 @@ def test_unknown_body_in_load_and_frame():
 
 def test_negative_spring_constants():
     s, _ = cart_pendulum()
-    with pytest.raises(ModelError, match="spring stiffness"):
+    with pytest.raises(ModelError, match="spring .spring0.: stiffness must be non-negative"):
         s.add_spring(None, "tip", stiffness=-3)
-    with pytest.raises(ModelError, match="damper damping"):
+    with pytest.raises(ModelError, match="damper .damper0.: damping must be non-negative"):
         s.add_damper(None, "tip", damping=-1)
 
 

@@ -9,6 +9,7 @@ from .errors import ModelError
 from .kinematics import Kinematics
 from .model.system import System
 from .subexpressions import Subexpressions
+from .symbols import Generated
 
 
 class ClosedForms:
@@ -70,7 +71,7 @@ class EquationsOfMotion(ClosedForms):
     @property
     def tau_actuated(self) -> sp.Matrix:
         """Symbols of the actuated joints' torques / forces τ_a (one per row of S)."""
-        return sp.Matrix([sp.Symbol(f"tau_{j.name}") for j in self.system.joints if j.actuated])
+        return sp.Matrix([Generated(f"tau_{j.name}") for j in self.system.joints if j.actuated])
 
     M = closed_form("M", "Mass matrix M(q).")
     b = closed_form("b", "Centrifugal and Coriolis terms b(q, u).")

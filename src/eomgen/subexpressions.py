@@ -2,7 +2,7 @@
 
 Symbolic mechanics gets slow when every entry of M is one huge expression tree. Instead each
 intermediate quantity (an entry of a body's rotation, a Jacobian column, ...) is a plain Symbol
-x_k with a definition e_k(q, u, parameters, x_<k). Derivatives follow the chain rule through the
+x_k (eomgen's own, see `symbols`) with a definition e_k(q, u, parameters, x_<k). Derivatives follow the chain rule through the
 definitions,
 
     d f / d s  =  Σ_y  ∂f/∂y · d y / d s,     d x_k / d s = d e_k / d s   (a new intermediate),
@@ -15,6 +15,8 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 
 import sympy as sp
+
+from .symbols import Generated
 
 
 def is_trivial(expr: sp.Expr) -> bool:
@@ -48,7 +50,7 @@ class Subexpressions:
             return expr
         if expr in self._named:  # the same expression twice: one name
             return self._named[expr]
-        symbol = sp.Symbol(f"{self.prefix}{len(self.definitions)}")  # not Dummy: same model, same order
+        symbol = Generated(f"{self.prefix}{len(self.definitions)}")  # not Dummy: same model, same order
         self._index[symbol] = len(self.definitions)
         self._uses[symbol] = tuple(s for s in expr.free_symbols if s in self.definitions)
         self.definitions[symbol] = expr

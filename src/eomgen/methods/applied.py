@@ -3,8 +3,11 @@ reaction included. Projected Newton-Euler projects them with Jacobians, the free
 body balances; Lagrange II works from energy and power instead."""
 from __future__ import annotations
 
+import random
+
 import sympy as sp
 
+from ..errors import ModelError
 from ..kinematics import Kinematics
 from ..linalg import dot, matmul, mul
 from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
@@ -25,6 +28,8 @@ def applied_wrenches(kin: Kinematics, load) -> list[tuple[Point, sp.Matrix, sp.M
     a, b = load.a, load.b
     d = kin.sub.add_matrix(kin.position(a) - kin.position(b))
     length = sp.sqrt((d.T * d)[0])
+    if not (isinstance(load, Spring) and load.rest_length == 0) and not getattr(load, "force", True) is None:
+        _check_line(kin, load.name, d)
     if isinstance(load, Actuator):
         T = zero if load.torque is None else world(kin, load.torque, a.body, load.in_body_frame)
         F = zero if load.force is None else load.force * d / length
@@ -38,6 +43,20 @@ def applied_wrenches(kin: Kinematics, load) -> list[tuple[Point, sp.Matrix, sp.M
     else:
         raise TypeError(f"unknown load type {type(load).__name__}")
     return [(a, F, T), (b, -F, -T)]
+
+
+def _check_line(kin: Kinematics, name: str, d: sp.Matrix) -> None:
+    """Refuse a load along the line between two points that coincide at every state (d/|d| = 0/0),
+    judged at random states and parameter values."""
+    closed = kin.sub.inline(d)
+    symbols = sorted(closed.free_symbols, key=str)
+    rng = random.Random(0)
+    for _ in range(3):
+        values = {s: sp.Float(rng.uniform(0.5, 1.5)) for s in symbols}
+        if any(abs(complex(x.xreplace(values).evalf())) > 1e-12 for x in closed):
+            return
+    raise ModelError(f"load '{name}': its two points coincide at every state, so the line it acts along is "
+                     "undefined; attach its ends at distinct points")
 
 
 def spring_potential(kin: Kinematics, spring: Spring) -> sp.Expr:

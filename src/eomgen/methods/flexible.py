@@ -13,8 +13,9 @@ import sympy as sp
 from ..kinematics import Kinematics
 from ..linalg import dot
 from ..model import FlexibleLink
+from ..symbols import Generated
 
-_xi, _h, _x0 = sp.symbols("xi h x0", positive=True)
+_xi, _h, _x0 = (Generated(x, positive=True) for x in ("xi", "h", "x0"))
 
 
 def shape_functions(h=_h, xi=_xi) -> list[sp.Expr]:

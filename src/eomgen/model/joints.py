@@ -6,41 +6,8 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..errors import ModelError
-
-
-def vector3(value, what: str) -> sp.Matrix:
-    """A 3×1 sympy column from any sequence of three numbers or expressions; `what` names the field."""
-    try:
-        v = sp.Matrix(value)
-    except Exception as exc:  # sympy raises several types for ragged or non-numeric input
-        raise ModelError(f"{what}: expected three numbers or expressions, got {value!r}") from exc
-    if v.shape not in ((3, 1), (1, 3)):
-        raise ModelError(f"{what}: expected a 3-vector, got shape {v.shape}")
-    v = v.reshape(3, 1)
-    _check_finite(v, what)
-    return v
-
-
-def matrix3(value, what: str) -> sp.Matrix:
-    """A 3×3 sympy matrix; `what` names the field."""
-    try:
-        m = sp.Matrix(value)
-    except Exception as exc:
-        raise ModelError(f"{what}: expected a 3×3 matrix, got {value!r}") from exc
-    if m.shape != (3, 3):
-        raise ModelError(f"{what}: expected a 3×3 matrix, got shape {m.shape}")
-    _check_finite(m, what)
-    return m
-
-
-def _check_finite(m: sp.Matrix, what: str) -> None:
-    for x in m:
-        if x.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
-            raise ModelError(f"{what}: entries must be finite, got {list(m)}")
-
-
-def is_numeric(m: sp.Matrix) -> bool:
-    return all(x.is_number for x in m)
+from ..symbols import Generated
+from .values import is_numeric, matrix3, nonnegative, scalar, vector3
 
 
 @dataclass(frozen=True)
@@ -101,13 +68,16 @@ class Joint:
             raise ModelError(f"joint name must be a non-empty string or a sympy Symbol, got {name!r}")
         self.axis = unit_axis(axis, self.name)
         self.actuated = actuated
-        self.armature = sp.sympify(armature)  # rotor inertia reflected to the joint: adds to M_ii
-        if self.armature.is_negative:
-            raise ModelError(f"joint '{self.name}': armature must be non-negative, got {self.armature}")
+        self.armature = nonnegative(armature, f"joint '{self.name}': armature")  # adds to M_ii
 
     def motion(self) -> tuple[sp.Matrix, sp.Matrix]:
         """(R_j, t_j): the child frame in the joint frame as a function of q."""
         raise NotImplementedError
+
+    def constants(self) -> dict[str, sp.Expr]:
+        """The joint's constant fields by name (numbers or parameters)."""
+        axis = {} if self.axis is None else {f"axis[{k}]": x for k, x in enumerate(self.axis)}
+        return {**axis, "armature": self.armature}
 
     @property
     def coordinates(self) -> list[sp.Symbol]:
@@ -135,7 +105,7 @@ class Joint:
 def speed_symbol(q: sp.Symbol, suffix: str = "dot") -> sp.Symbol:
     """u for coordinate q: 'phi' → 'phidot' (φ̇), 'q_1' → 'qdot_1' (q̇₁)."""
     base, sep, sub = q.name.partition("_")
-    return sp.Symbol(f"{base}{suffix}{sep}{sub}")
+    return Generated(f"{base}{suffix}{sep}{sub}")
 
 
 class Revolute(Joint):
@@ -171,10 +141,10 @@ class FreeFlyer(Joint):
         self.name, self.q, self.axis, self.actuated, self.armature = name, None, None, False, sp.Integer(0)
         self.parametrization = parametrization
         if parametrization == "quaternion":
-            self._q = [sp.Symbol(f"{name}_{c}") for c in ("x", "y", "z", "qx", "qy", "qz", "qw")]
-            self._u = [sp.Symbol(f"{name}_{c}") for c in ("vx", "vy", "vz", "wx", "wy", "wz")]
+            self._q = [Generated(f"{name}_{c}") for c in ("x", "y", "z", "qx", "qy", "qz", "qw")]
+            self._u = [Generated(f"{name}_{c}") for c in ("vx", "vy", "vz", "wx", "wy", "wz")]
         else:
-            self._q = [sp.Symbol(f"{name}_{c}") for c in ("x", "y", "z", "yaw", "pitch", "roll")]
+            self._q = [Generated(f"{name}_{c}") for c in ("x", "y", "z", "yaw", "pitch", "roll")]
             self._u = [speed_symbol(x) for x in self._q]
 
     @property
@@ -187,7 +157,7 @@ class FreeFlyer(Joint):
 
     @property
     def accelerations(self):
-        return [sp.Symbol(f"{s.name}dot") for s in self._u]
+        return [Generated(f"{s.name}dot") for s in self._u]
 
     def rotation(self) -> sp.Matrix:
         """R(q): for a unit quaternion as Pinocchio / Eigen compute it, or Rz(ψ) Ry(θ) Rx(φ)."""
@@ -233,18 +203,24 @@ class FlexibleLink(Joint):
 
     def __init__(self, name, length, mass_per_length, EI, elements: int = 1, *, actuated: bool = True) -> None:
         super().__init__(name, axis=(0, 0, 1), actuated=actuated)
-        if not isinstance(elements, int) or elements < 1:
+        if not isinstance(elements, int) or isinstance(elements, bool) or elements < 1:
             raise ModelError(f"joint '{self.name}': elements must be a positive integer, got {elements!r}")
-        self.length, self.mass_per_length, self.EI = (sp.sympify(x) for x in (length, mass_per_length, EI))
-        for label, value in (("length", self.length), ("mass_per_length", self.mass_per_length), ("EI", self.EI)):
-            if value.is_nonpositive:
-                raise ModelError(f"joint '{self.name}': {label} must be positive, got {value}")
+        values = {"length": length, "mass_per_length": mass_per_length, "EI": EI}
+        for label, value in values.items():
+            values[label] = scalar(value, f"joint '{self.name}': {label}")
+            if values[label].is_nonpositive:
+                raise ModelError(f"joint '{self.name}': {label} must be positive, got {values[label]}")
+        self.length, self.mass_per_length, self.EI = values.values()
         self.elements = elements
-        self.nodal = [sp.Symbol(f"{kind}{k}_{self.name}") for k in range(2, elements + 2) for kind in ("w", "s")]
+        self.nodal = [Generated(f"{kind}{k}_{self.name}") for k in range(2, elements + 2) for kind in ("w", "s")]
 
     @property
     def dof(self) -> int:
         return 1 + len(self.nodal)
+
+    def constants(self) -> dict[str, sp.Expr]:
+        return {**super().constants(), "length": self.length, "mass_per_length": self.mass_per_length,
+                "EI": self.EI}
 
     @property
     def coordinates(self):

@@ -98,8 +98,9 @@ def paths(name: str) -> tuple[Path, Path | None, bool]:
 def load(name: str, base: str = "quaternion") -> System:
     """A robot of example-robot-data as a `System` (armature from its SRDF where it has rotor
     parameters, as example-robot-data's own loader sets it); a floating base in `base`
-    parametrization ("quaternion" or "euler")."""
+    parametrization ("quaternion" or "euler"). Mimic joints (panda's second finger, say) are
+    independent joints, as in example-robot-data's own loader, with a warning naming them."""
     urdf, srdf, floating = paths(name)
-    system = from_urdf(urdf, floating_base=floating and base, srdf=srdf)
+    system = from_urdf(urdf, floating_base=floating and base, srdf=srdf, mimic="independent")
     system.name = name
     return system

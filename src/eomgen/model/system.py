@@ -9,7 +9,10 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
-from .joints import Fixed, FreeFlyer, Joint, Placement, Revolute, is_numeric, matrix3, vector3
+from ..symbols import user_symbols
+from .joints import Fixed, FreeFlyer, Joint, Placement, Revolute
+from ..symbols import Generated
+from .values import is_numeric, matrix3, nonnegative, scalar, vector3
 from .loads import Actuator, Damper, Force, Motor, Point, Spring, Torque
 
 
@@ -63,6 +66,8 @@ class System:
         self.contacts: list[Contact] = []
         self.motors: list[Motor] = []
         self._bodies: dict[str, Body] = {}
+        self._symbols: dict[str, tuple[sp.Symbol, str]] = {}  # name → (the user's symbol, where it entered)
+        self._register("gravity", self.gravity)
 
     # --- coordinates -------------------------------------------------------------------------
     @property
@@ -116,8 +121,7 @@ class System:
         exprs = list(self.gravity)
         for b in self.bodies:
             exprs += [b.mass, *b.com, *b.inertia, *b.placement.rotation, *b.placement.translation]
-            if b.joint.axis is not None:
-                exprs += [*b.joint.axis, b.joint.armature]
+            exprs += list(b.joint.constants().values())
         for f in self.frames.values():
             exprs += [*f.placement.rotation, *f.placement.translation]
         for load in self.loads:
@@ -126,6 +130,16 @@ class System:
         return free - set(self.q) - set(self.u)
 
     # --- building ----------------------------------------------------------------------------
+    def _register(self, what: str, *values) -> None:
+        """Parameters are given by name: two different symbols of one name (say Symbol('l') and
+        Symbol('l', positive=True)) would be one name for two values, and are refused here."""
+        for value in values:
+            for s in user_symbols(value):
+                known, where = self._symbols.setdefault(s.name, (s, what))
+                if known != s:
+                    raise ModelError(f"{what}: symbol {sp.srepr(s)} differs from {sp.srepr(known)} of "
+                                     f"{where}, with the same name; use one symbol per name")
+
     def body(self, ref) -> Body:
         """The body given by name or object; a clear error if it is not part of this system."""
         if isinstance(ref, Body):
@@ -159,11 +173,12 @@ class System:
         used = set(joint.coordinates) & set(self.q)
         if used:
             raise ModelError(f"body '{name}': coordinate '{used.pop()}' is used by another joint already")
+        if any(b.joint.name == joint.name for b in self.bodies):
+            raise ModelError(f"body '{name}': joint name '{joint.name}' is used by another joint already "
+                             "(joint names identify reactions and results)")
         if isinstance(joint, FreeFlyer) and parent is not None:
             raise ModelError(f"body '{name}': a FreeFlyer joint must attach the root body to the world")
-        mass = sp.sympify(mass)
-        if mass.is_negative or (mass.is_number and not mass.is_real):
-            raise ModelError(f"body '{name}': mass must be non-negative, got {mass}")
+        mass = nonnegative(mass, f"body '{name}': mass")
         com = vector3(com, f"body '{name}': com")
         inertia = matrix3(sp.zeros(3) if inertia is None else inertia, f"body '{name}': inertia")
         check_inertia(inertia, f"body '{name}'", self.strict)
@@ -171,6 +186,18 @@ class System:
         placement = Placement() if placement is None else placement
         if not isinstance(placement, Placement):
             raise ModelError(f"body '{name}': placement must be an eomgen.Placement")
+        motion = set(self.q) | set(joint.coordinates)
+        fields = {"mass": mass, "com": com, "inertia": inertia, "placement": placement.rotation.row_join(
+            placement.translation), **{f"joint {k}": v for k, v in joint.constants().items()}}
+        for field_name, value in fields.items():
+            moving = sorted(str(s) for s in sp.sympify(value).free_symbols
+                            if s in motion or isinstance(s, Generated))
+            if moving:
+                raise ModelError(f"body '{name}': {field_name} depends on the coordinates or speeds "
+                                 f"{moving}; it must be constant (a parameter or a number)")
+        self._register(f"joint '{joint.name}'", sp.Matrix(joint.coordinates))
+        for field_name, value in fields.items():
+            self._register(f"body '{name}': {field_name}", value)
         body = Body(name, parent, joint, mass, com, inertia, placement,
                     self.nv if joint.dof else None, self.nq if joint.dof else None)
         self.bodies.append(body)
@@ -179,9 +206,15 @@ class System:
 
     def add_frame(self, name: str, body, placement: Placement | None = None) -> Frame:
         """A named frame fixed on a body (a tool tip, a contact point, a URDF link merged away)."""
+        if not isinstance(name, str) or not name:
+            raise ModelError(f"frame name must be a non-empty string, got {name!r}")
         if name in self._bodies or name in self.frames:
             raise ModelError(f"duplicate name '{name}': a body or frame of that name exists")
-        frame = Frame(name, self.body(body), Placement() if placement is None else placement)
+        placement = Placement() if placement is None else placement
+        if not isinstance(placement, Placement):
+            raise ModelError(f"frame '{name}': placement must be an eomgen.Placement")
+        self._register(f"frame '{name}': placement", placement.rotation, placement.translation)
+        frame = Frame(name, self.body(body), placement)
         self.frames[name] = frame
         return frame
 
@@ -214,24 +247,30 @@ class System:
                          "(body or None, offset) or None")
 
     def _load_name(self, name, kind: str) -> str:
+        if name is not None and (not isinstance(name, str) or not name):
+            raise ModelError(f"{kind} name must be a non-empty string, got {name!r}")
         name = name or f"{kind}{sum(type(x).__name__.lower() == kind for x in self.loads)}"
         if any(x.name == name for x in self.loads):
             raise ModelError(f"duplicate load name '{name}'")
         return name
 
+    def _add_load(self, load):
+        """Append a load, its symbols registered (see `_register`)."""
+        self._register(f"load '{load.name}'", *[x for v in vars(load).values() for x in _entries(v)])
+        self.loads.append(load)
+        return load
+
     def add_force(self, body, force, point=(0, 0, 0), *, in_body_frame=False, name=None) -> Force:
         """Force F at `point` (body coordinates); F in world axes unless in_body_frame."""
         load = Force(self._load_name(name, "force"), Point(self.body(body), vector3(point, "force point")),
                      vector3(force, "force"), in_body_frame)
-        self.loads.append(load)
-        return load
+        return self._add_load(load)
 
     def add_torque(self, body, torque, *, in_body_frame=False, name=None) -> Torque:
         """Pure torque T on a body, world axes unless in_body_frame."""
         load = Torque(self._load_name(name, "torque"), self.body(body), vector3(torque, "torque"),
                       in_body_frame)
-        self.loads.append(load)
-        return load
+        return self._add_load(load)
 
     def add_actuator(self, body, *, torque=None, force=None, reaction=None, point=(0, 0, 0),
                      reaction_point=(0, 0, 0), in_body_frame=False, name=None) -> Actuator:
@@ -244,9 +283,8 @@ class System:
         load = Actuator(self._load_name(name, "actuator"), Point(a, vector3(point, "actuator point")),
                         Point(b, vector3(reaction_point, "actuator reaction_point")),
                         None if torque is None else vector3(torque, "actuator torque"),
-                        None if force is None else sp.sympify(force), in_body_frame)
-        self.loads.append(load)
-        return load
+                        None if force is None else scalar(force, "actuator force"), in_body_frame)
+        return self._add_load(load)
 
     def add_motor(self, body, *, resistance, inductance, torque_constant, rotor_inertia, friction=0,
                   gear_ratio=1, voltage=None, name=None) -> Motor:
@@ -260,12 +298,14 @@ class System:
         name = name or f"motor_{b.joint.name}"
         if any(m.name == name for m in self.motors):
             raise ModelError(f"duplicate motor name '{name}'")
-        values = {k: _nonnegative(v, f"motor '{name}': {k}") for k, v in dict(
+        values = {k: nonnegative(v, f"motor '{name}': {k}") for k, v in dict(
             resistance=resistance, inductance=inductance, torque_constant=torque_constant,
             rotor_inertia=rotor_inertia, friction=friction).items()}
-        N = sp.sympify(gear_ratio)
-        current = sp.Symbol(f"i_{name}")
-        motor = Motor(name, b, current, sp.Symbol(f"U_{name}") if voltage is None else sp.sympify(voltage),
+        N = scalar(gear_ratio, f"motor '{name}': gear_ratio")
+        current = Generated(f"i_{name}")
+        voltage = Generated(f"U_{name}") if voltage is None else scalar(voltage, f"motor '{name}': voltage")
+        self._register(f"motor '{name}'", N, voltage, *values.values())
+        motor = Motor(name, b, current, voltage,
                       values["resistance"], values["inductance"], values["torque_constant"],
                       values["rotor_inertia"], values["friction"], N)
         b.joint.armature = b.joint.armature + N**2 * motor.rotor_inertia
@@ -277,17 +317,17 @@ class System:
 
     def add_spring(self, a, b, stiffness, rest_length=0, *, name=None) -> Spring:
         """Linear spring between points a and b (see `point`)."""
-        load = Spring(self._load_name(name, "spring"), self.point(a), self.point(b),
-                      _nonnegative(stiffness, "spring stiffness"), _nonnegative(rest_length, "spring rest_length"))
-        self.loads.append(load)
-        return load
+        name = self._load_name(name, "spring")
+        load = Spring(name, self.point(a), self.point(b), nonnegative(stiffness, f"spring '{name}': stiffness"),
+                      nonnegative(rest_length, f"spring '{name}': rest_length"))
+        return self._add_load(load)
 
     def add_damper(self, a, b, damping, *, name=None) -> Damper:
-        """Linear damper between points a and b (see `point`)."""
-        load = Damper(self._load_name(name, "damper"), self.point(a), self.point(b),
-                      _nonnegative(damping, "damper damping"))
-        self.loads.append(load)
-        return load
+        """Linear damper between points a and b (see `point`); its force acts along the line between them,
+        so the two must not be the same point."""
+        name = self._load_name(name, "damper")
+        load = Damper(name, self.point(a), self.point(b), nonnegative(damping, f"damper '{name}': damping"))
+        return self._add_load(load)
 
     def reduced(self, lock: dict) -> "System":
         """A copy with the joints in `lock` (joint name → value) welded at those values: the joint's
@@ -306,7 +346,8 @@ class System:
             if len(joint.coordinates) != 1:
                 raise ModelError(f"reduced: joint '{joint.name}' has {len(joint.coordinates)} coordinates; "
                                  "only one-coordinate joints can be locked")
-            R_q, t_q = (m.xreplace({joint.q: sp.sympify(lock[joint.name])}) for m in joint.motion())
+            value = scalar(lock[joint.name], f"reduced: value of joint '{joint.name}'")
+            R_q, t_q = (m.xreplace({joint.q: value}) for m in joint.motion())
             P = b.placement
             return {"joint": Fixed(joint.name), "placement": Placement(rotation=P.rotation * R_q,
                                                                        translation=P.translation + P.rotation * t_q)}
@@ -340,13 +381,6 @@ def _entries(v):
     if isinstance(v, sp.Basic):
         return [v]
     return []
-
-
-def _nonnegative(value, what: str) -> sp.Expr:
-    value = sp.sympify(value)
-    if value.is_negative:
-        raise ModelError(f"{what} must be non-negative, got {value}")
-    return value
 
 
 def check_inertia(I: sp.Matrix, owner: str, strict: bool = True) -> None:

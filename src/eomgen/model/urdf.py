@@ -10,6 +10,7 @@ import sympy as sp
 from ..errors import ModelError
 from .joints import Fixed, FreeFlyer, Placement, Prismatic, Revolute
 from .system import System
+from .urdf_check import check_urdf
 
 _AXES = {"X": (1, 0, 0), "Y": (0, 1, 0), "Z": (0, 0, 1)}
 
@@ -48,13 +49,14 @@ def _joint(jmodel, name: str, armature: float, base: str = "quaternion"):
                      "prismatic and fixed joints)")
 
 
-def parse_urdf(path, floating_base: bool = False, srdf=None):
+def parse_urdf(path, floating_base: bool = False, srdf=None, mimic: str = "refuse"):
     """The Pinocchio model of a URDF file (armature from the SRDF's rotor parameters, if given)."""
     import pinocchio as pin
 
     path = Path(path)
     if not path.is_file():
         raise ModelError(f"URDF file not found: {path}")
+    check_urdf(path, mimic)
     try:
         model = (pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer()) if floating_base
                  else pin.buildModelFromUrdf(str(path)))
@@ -114,15 +116,17 @@ def from_pinocchio(model, gravity=None, strict: bool = True, base: str = "quater
     return system
 
 
-def from_urdf(path, floating_base: bool | str = False, srdf=None, strict: bool = True) -> System:
+def from_urdf(path, floating_base: bool | str = False, srdf=None, strict: bool = True,
+              mimic: str = "refuse") -> System:
     """Import a URDF file with numeric parameters; frames are the URDF links and fixed joints by name.
+    A mimic joint is refused unless mimic="independent" (imported as an independent joint, warned).
     floating_base: False (fixed), True or "quaternion" (Pinocchio's free flyer), "euler" (ZYX angles).
     Armature comes from the SRDF's rotor parameters when `srdf` is given. With `strict=False` an
     inertia that is not physically possible is a warning, not an error."""
     if floating_base not in (False, True, "quaternion", "euler"):
         raise ModelError(f"floating_base must be False, True, 'quaternion' or 'euler', got {floating_base!r}")
     base = floating_base if isinstance(floating_base, str) else "quaternion"
-    system = from_pinocchio(parse_urdf(path, bool(floating_base), srdf), strict=strict, base=base)
+    system = from_pinocchio(parse_urdf(path, bool(floating_base), srdf, mimic), strict=strict, base=base)
     system.source = str(path)
     return system
 
