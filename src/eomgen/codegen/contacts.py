@@ -79,13 +79,12 @@ def contact_set(M, J, names: list[str], damped: str) -> ContactSet:
         warnings.warn(f"rank-deficient contact set: {redundant} repeat other constraints; "
                       "using the minimum-norm (least-squares) contact forces", stacklevel=4)
     s = sigma[:rank] ** 2
+    mu = s[0] / COND_LIMIT if rank else 0.0
+    weak = s < mu  # some exactly when cond = s_max / s_min > COND_LIMIT
     weight = np.zeros(len(sigma))
-    weight[:rank] = 1 / s
-    cond = s[0] / s[-1]
-    if cond > COND_LIMIT:
-        mu = s[0] / COND_LIMIT
-        weak = s < mu
-        weight[:rank][weak] = s[weak] / (s[weak] ** 2 + mu ** 2)
+    weight[:rank] = np.where(weak, s / (s ** 2 + mu ** 2), 1 / s)
+    if weak.any():
+        cond = s[0] / s[-1]
         share = (U[:, :rank][:, weak] ** 2).sum(axis=1)  # each row's part in the weak directions
         rows = [f"{names[i]} ({share[i]:.2f})" for i in np.argsort(-share) if share[i] >= 0.01]
         frames = sorted({names[i].rsplit(".", 1)[0] for i in np.flatnonzero(share >= 0.01)})
