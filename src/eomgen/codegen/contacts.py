@@ -23,7 +23,6 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import cho_solve, solve_triangular
 
 from ..errors import ModelError
 
@@ -61,6 +60,11 @@ class ContactSet:
     weight: np.ndarray
     rank: int
 
+    def Minv(self, x: np.ndarray) -> np.ndarray:
+        """M⁻¹ x = L⁻ᵀ L⁻¹ x (NumPy's solvers: SciPy's bring a second BLAS thread pool, ten times slower
+        here under load)."""
+        return np.linalg.solve(self.L.T, np.linalg.solve(self.L, x))
+
 
 def contact_set(M, J, names: list[str], damped: str) -> ContactSet:
     """The contact set's spectrum, with the warnings for redundant and near-singular sets (`damped`: what
@@ -70,7 +74,7 @@ def contact_set(M, J, names: list[str], damped: str) -> ContactSet:
     except np.linalg.LinAlgError:
         raise ModelError("the mass matrix is not positive definite at this state; contact forces are "
                          "undefined") from None
-    B = solve_triangular(L, J.T, lower=True).T
+    B = np.linalg.solve(L, J.T).T
     U, sigma, Vt = np.linalg.svd(B, full_matrices=False)
     tol = RANK_RTOL * sigma[0]
     rank = int((sigma > tol).sum())
@@ -100,9 +104,9 @@ def contact_dynamics(M, h, J, Jdot_u, names) -> tuple[np.ndarray, np.ndarray]:
     c = contact_set(M, J, names, "their forces are damped least squares with damping μ, "
                                  "F = −s / (s² + μ²) uᵀ r: the contacts are not held exactly there "
                                  "(residual ≤ ‖J_c M⁻¹ h + J̇_c u‖)")
-    Minv_h = cho_solve((c.L, True), h)
+    Minv_h = c.Minv(h)
     F = -c.U @ (c.weight * (c.U.T @ (J @ Minv_h + Jdot_u)))
-    return Minv_h + cho_solve((c.L, True), J.T @ F), F
+    return Minv_h + c.Minv(J.T @ F), F
 
 
 def support_projector(M, J, names) -> np.ndarray:
@@ -112,4 +116,4 @@ def support_projector(M, J, names) -> np.ndarray:
                                  "a relative change of J_c)")
     V = c.Vt[:c.rank].T
     P = np.eye(M.shape[0]) - V @ V.T
-    return solve_triangular(c.L, P @ c.L.T, trans="T", lower=True)
+    return np.linalg.solve(c.L.T, P @ c.L.T)
