@@ -4,7 +4,15 @@ imported. Each function `e<i>` is exposed twice: `m<i>(q, u=None, ud=None, p=Non
 output matrix (rows, cols), `v<i>` the column as a vector (rows,); q of shape (nq,) is one state,
 (N, nq) is N states evaluated in one C loop with the GIL released, over all cores for large N (OpenMP;
 OMP_NUM_THREADS=1 for one). Inputs are checked in C with the
-messages of the NumPy backend (the argument named, shapes, NaN and infinities)."""
+messages of the NumPy backend (the argument named, shapes, NaN and infinities).
+
+The cache, $EOMGEN_CACHE or ~/.cache/eomgen, is created private to the user (mode 0o700). Its modules
+are loaded as code, so a folder that other users could write into is refused (world-writable, or owned
+by someone else) and a group-writable one is warned about; a folder that cannot be created or written
+is a ModelError naming EOMGEN_CACHE. Each module `<name><EXT_SUFFIX>` is moved in by an atomic rename,
+then its checksum `<file>.sha256` (sha256 of the module's bytes) beside it; a module with no checksum,
+another checksum or that does not load is rebuilt once (a truncated or corrupt file, an interrupted
+build), and a ModelError if the rebuilt one does not load either."""
 from __future__ import annotations
 
 import hashlib
@@ -12,10 +20,12 @@ import importlib.machinery
 import importlib.util
 import os
 import shutil
+import stat
 import subprocess
 import sys
 import sysconfig
 import tempfile
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -198,8 +208,38 @@ def python_headers() -> str:
 
 
 def cache_dir() -> Path:
-    folder = Path(os.environ.get("EOMGEN_CACHE", Path.home() / ".cache" / "eomgen"))
-    folder.mkdir(parents=True, exist_ok=True)
+    """The cache folder ($EOMGEN_CACHE or ~/.cache/eomgen), created with mode 0o700; a ModelError naming
+    EOMGEN_CACHE when it cannot be created or written, or other users could write into it."""
+    env = os.environ.get("EOMGEN_CACHE")
+    folder = Path(env) if env else Path.home() / ".cache" / "eomgen"
+    where = f"EOMGEN_CACHE={folder}" if env else f"the default {folder} (EOMGEN_CACHE is not set)"
+
+    def unusable(reason: str) -> ModelError:
+        return ModelError(f"the C extension cache, {where}, {reason}; set EOMGEN_CACHE to a folder of yours")
+
+    existed = folder.is_dir()
+    if folder.exists() and not existed:
+        raise unusable("is a file, not a folder")
+    try:
+        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+        if not existed:
+            folder.chmod(0o700)  # whatever the umask
+    except OSError as error:
+        raise unusable(f"cannot be created: {error.strerror or error}") from None
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise unusable("is not writable")
+    if os.name == "posix":
+        info = folder.stat()
+        if info.st_uid != os.geteuid():
+            raise unusable(f"belongs to another user (uid {info.st_uid}), who could replace the compiled "
+                           "code")
+        if info.st_mode & stat.S_IWOTH:
+            raise unusable(f"is writable by all users (mode {stat.S_IMODE(info.st_mode):o}), who could "
+                           "replace the compiled code")
+        if info.st_mode & stat.S_IWGRP:
+            warnings.warn(f"the C extension cache, {where}, is writable by its group (mode "
+                          f"{stat.S_IMODE(info.st_mode):o}), whose members could replace the compiled code",
+                          stacklevel=2)
     return folder
 
 
@@ -221,30 +261,68 @@ def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: 
     return "\n".join(parts)
 
 
-def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int):
-    """Compile (once per distinct source, compiler, flags, Python and NumPy) and import the extension module."""
-    key = repr((functions, nq, nv, n_params, compiler(), FLAGS, ATTEMPTS, sys.version, np.__version__)).encode()
-    name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
-    target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
-    if not target.exists():
-        source = module_source(name, functions, nq, nv, n_params)
-        with tempfile.TemporaryDirectory(dir=target.parent) as tmp:  # same file system: the move is a rename
-            c_file, so_file = Path(tmp) / f"{name}.c", Path(tmp) / target.name
-            c_file.write_text(source)
-            command = [compiler(), *FLAGS, f"-I{python_headers()}", f"-I{np.get_include()}",
-                       str(c_file), "-o", str(so_file)]
-            for options in ATTEMPTS:  # the first that builds here
-                result = subprocess.run(command + options, capture_output=True, text=True)
-                if result.returncode == 0:
-                    break
-            if result.returncode != 0:
-                raise ModelError(f"the C compiler failed: {result.stderr[:2000]}")
-            os.replace(so_file, target)  # atomic; a concurrent writer leaves the same bytes
-    if name in sys.modules:
-        return sys.modules[name]
+def sha256(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def checksum_file(target: Path) -> Path:
+    return target.with_name(target.name + ".sha256")
+
+
+def intact(target: Path) -> bool:
+    """The module and its checksum exist, and sha256(module) equals the checksum."""
+    try:
+        return checksum_file(target).read_text().strip() == sha256(target)
+    except OSError:
+        return False
+
+
+def compile_module(source: str, target: Path) -> None:
+    """Compile `source` in a temp folder beside `target`, move the module in (an atomic rename; a concurrent
+    writer leaves the same bytes), then its checksum."""
+    with tempfile.TemporaryDirectory(dir=target.parent) as tmp:  # same file system: the moves are renames
+        c_file, so_file = Path(tmp) / "module.c", Path(tmp) / target.name
+        c_file.write_text(source)
+        command = [compiler(), *FLAGS, f"-I{python_headers()}", f"-I{np.get_include()}",
+                   str(c_file), "-o", str(so_file)]
+        for options in ATTEMPTS:  # the first that builds here
+            result = subprocess.run(command + options, capture_output=True, text=True)
+            if result.returncode == 0:
+                break
+        if result.returncode != 0:
+            raise ModelError(f"the C compiler failed: {result.stderr[:2000]}")
+        digest = Path(tmp) / "sha256"
+        digest.write_text(sha256(so_file) + "\n")
+        os.replace(so_file, target)
+        os.replace(digest, checksum_file(target))
+
+
+def load(name: str, target: Path):
     loader = importlib.machinery.ExtensionFileLoader(name, str(target))
     spec = importlib.util.spec_from_file_location(name, str(target), loader=loader)
     module = importlib.util.module_from_spec(spec)
     loader.exec_module(module)
     sys.modules[name] = module
     return module
+
+
+def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int):
+    """Compile (once per distinct source, compiler, flags, Python and NumPy) and import the extension module;
+    a cached module that is not intact or does not load is rebuilt once."""
+    key = repr((functions, nq, nv, n_params, compiler(), FLAGS, ATTEMPTS, sys.version, np.__version__)).encode()
+    name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
+    target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
+    if name in sys.modules:
+        return sys.modules[name]
+    source = module_source(name, functions, nq, nv, n_params)
+    fresh = not intact(target)
+    if fresh:
+        compile_module(source, target)
+    while True:
+        try:
+            return load(name, target)
+        except ImportError as error:
+            if fresh:
+                raise ModelError(f"the compiled module {target} does not load: {error}") from None
+        compile_module(source, target)
+        fresh = True
