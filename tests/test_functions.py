@@ -17,8 +17,8 @@ def functions_of(x: sp.Expr, y: sp.Expr, v: sp.Expr) -> list[sp.Expr]:
             sp.asin(x / 3) * sp.acos(y / 3) + sp.sinh(x / 2) - sp.cosh(y) * sp.tanh(v),
             sp.Abs(x - y) + sp.sign(v) + sp.Heaviside(y - sp.Rational(1, 5)) + sp.Heaviside(x, 0),
             sp.Min(x, y, sp.Rational(3, 10)) * sp.Max(x, -y, v) + sp.Max(x, 0) + (2 + sp.cos(x))**1.5,
-            sp.Piecewise((7 * (-x)**1.5, x < 0), (x * y, sp.And(x <= 1, y > 0)), (v, sp.Or(sp.Eq(x, y), y >= 1)),
-                         (x + 2, sp.Not(sp.And(y < -1, v < 0))), (-3, True))
+            sp.Piecewise((7 * (-x)**1.5, x < 0), (x * y, sp.And(x <= 1, y > 0)),
+                         (v, sp.Or(sp.Eq(x, y), y >= 1)), (x + 2, sp.Not(sp.And(y < -1, v < 0))), (-3, True))
             + sp.Piecewise((sp.sqrt(x) + sp.log(x), x > 0), (y**3, sp.Ne(x, y)), (1 - y, True))
             + sp.Piecewise((sp.asin(x), sp.Abs(x) <= 1), (sp.acos(1 / x), True)) + (3 + y)**-3]
 
@@ -79,7 +79,8 @@ def test_tau_every_path(derived, tmp_path, monkeypatch):
     with np.errstate(invalid="ignore"):  # the branches not taken: (-x)**1.5 at x > 0, ...
         np.testing.assert_allclose(fn.tau(q, u), tau, rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(fc.tau(q, u), tau, rtol=1e-12, atol=1e-12)
-    assert all(f"m.{g}(" in fn.functions["tau"].source for g in ("arctan2", "arcsin", "fmin", "where", "heaviside"))
+    python = fn.functions["tau"].source
+    assert all(f"m.{g}(" in python for g in ("arctan2", "arcsin", "fmin", "where", "heaviside"))
     assert all(g in fc.functions["tau"].source for g in ("atan2(", "asin(", "fmin(", " ? ", "pow("))
 
 
@@ -106,8 +107,9 @@ def test_write_c_and_module(tmp_path):
     calls = "".join(f"fn_J_{k}(q, u, ud, p, J); for (int i = 0; i < 6; ++i) printf(\"%.17g\\n\", J[i]);"
                     for k in range(len(frames)))
     main = tmp_path / "main.c"
-    main.write_text('#include <stdio.h>\n#include <stdlib.h>\n#include "fn.h"\nint main(int argc, char **argv) {'
-                    ' double q[1] = {atof(argv[1])}, u[1] = {0}, ud[1] = {0}, p[1] = {atof(argv[2])}, J[6];'
+    main.write_text('#include <stdio.h>\n#include <stdlib.h>\n#include "fn.h"\n'
+                    'int main(int argc, char **argv) { double q[1] = {atof(argv[1])}, u[1] = {0}, ud[1] = {0},'
+                    ' p[1] = {atof(argv[2])}, J[6];'
                     f" {calls} return 0; }}\n")
     subprocess.run(["cc", str(main), str(c_path), "-o", str(tmp_path / "main"), "-lm"], check=True)
     module_path = eg.write_module(eom, tmp_path / "fn_eom.py", frames=frames)
@@ -115,16 +117,17 @@ def test_write_c_and_module(tmp_path):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     q0 = system.q[0]
+    jacobians = [eom.subexpressions.inline(eom.kinematics.jacobian(f)) for f in frames]
     for x, value in [(0.4, -0.8), (1.1, 0.0), (-0.3, 0.7), (2.0, 1.0), (0.9, 1.5), (-1.2, 2.3)]:
-        expected = np.array([[exact(e, [q0, s], [x, value]) for e in eom.subexpressions.inline(eom.kinematics.jacobian(f)[:, 0])]
-                             for f in frames])
+        expected = np.array([[exact(e, [q0, s], [x, value]) for e in J[:, 0]] for J in jacobians])
         out = subprocess.run([str(tmp_path / "main"), repr(x), repr(value)], capture_output=True, text=True,
                              check=True).stdout
-        np.testing.assert_allclose(np.array(out.split(), float).reshape(-1, 6), expected, rtol=1e-12, atol=1e-12)
+        close = dict(rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(np.array(out.split(), float).reshape(-1, 6), expected, **close)
         for k, f in enumerate(frames):
-            np.testing.assert_allclose(module.jacobian(f, [x], [value])[:, 0], expected[k], rtol=1e-12, atol=1e-12)
-            np.testing.assert_allclose(module.jacobian(f, [[x], [x]], [value])[1, :, 0], expected[k],
-                                       rtol=1e-12, atol=1e-12)
+            np.testing.assert_allclose(module.jacobian(f, [x], [value])[:, 0], expected[k], **close)
+            batch = module.jacobian(f, [[x], [x]], [value])
+            np.testing.assert_allclose(batch[1, :, 0], expected[k], **close)
 
 
 def test_derivative_rules_equal_sympy():
@@ -148,15 +151,18 @@ def test_derivative_rules_equal_sympy():
                 assert abs(complex(sp.sympify(got).subs(at).evalf()) - want) < 1e-9 * (1 + abs(want)), (f, p)
 
 
-@pytest.mark.parametrize("load,name", [(sp.Function("friction")(sp.Symbol("x")), "friction"),
-                                       (sp.Derivative(sp.Function("h")(sp.Symbol("x")), sp.Symbol("x")), "Derivative"),
-                                       (sp.Integral(sp.Symbol("t") ** 2, sp.Symbol("t")), "Integral"),
-                                       (sp.I * sp.Symbol("x"), "ImaginaryUnit"), (sp.zeta(sp.Symbol("x")), "zeta")])
+X, T = sp.symbols("x t")
+
+
+@pytest.mark.parametrize("load,name", [(sp.Function("friction")(X), "friction"),
+                                       (sp.Derivative(sp.Function("h")(X), X), "Derivative"),
+                                       (sp.Integral(T**2, T), "Integral"), (sp.I * X, "ImaginaryUnit"),
+                                       (sp.zeta(X), "zeta")])
 def test_unsupported_is_a_clear_error(load, name):
     system = eg.System()
     a = system.add_body("a", joint=eg.Revolute("x", axis=(0, 0, 1)), mass=1, com=(0.5, 0, 0))
     x = system.q[0]
-    system.add_torque(a, (0, 0, sp.sympify(load).xreplace({sp.Symbol("x"): x})))
+    system.add_torque(a, (0, 0, sp.sympify(load).xreplace({X: x})))
     f = eg.codegen(eg.derive(system))
     with pytest.raises(eg.ModelError, match=name):
         f.tau([0.1], [0.2], params={"t": 1.0})
@@ -168,7 +174,8 @@ def test_no_value_or_no_number_is_a_clear_error():
 
     x = sp.Symbol("x")
     for expr, name in [(sp.Piecewise((1, sp.Symbol("w") > 0), (0, True)), "symbol w: it is no coordinate"),
-                       (sp.oo * x, "Infinity"), (sp.Piecewise((1, sp.Xor(x > 0, x < 1)), (0, True)), "condition Xor")]:
+                       (sp.oo * x, "Infinity"),
+                       (sp.Piecewise((1, sp.Xor(x > 0, x < 1)), (0, True)), "condition Xor")]:
         for syntax in ({}, {"syntax": C}):
             with pytest.raises(eg.ModelError, match=name):
                 Printer({x: "_q0"}, **syntax)(expr)

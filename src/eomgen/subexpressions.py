@@ -120,7 +120,8 @@ class Subexpressions:
                 r = sp.Piecewise(*[(d(value), cond) for value, cond in e.args])
             elif isinstance(e, (sp.Min, sp.Max)):  # the derivative of the argument that is the extremum
                 ge = sp.Ge if isinstance(e, sp.Max) else sp.Le
-                r = d(sp.Piecewise(*[(a, sp.And(*[ge(a, b) for b in e.args[i + 1:]])) for i, a in enumerate(e.args)]))
+                r = d(sp.Piecewise(*[(a, sp.And(*[ge(a, b) for b in e.args[i + 1:]]))
+                                     for i, a in enumerate(e.args)]))
             elif isinstance(e, sp.atan2):
                 y, x = e.args
                 r = (x * d(y) - y * d(x)) / (x**2 + y**2)

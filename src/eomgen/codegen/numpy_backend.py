@@ -20,11 +20,10 @@ from ..errors import ModelError
 from ..subexpressions import Subexpressions
 
 # sympy's functions printed as calls of one name (Min and Max: nested, two arguments a call)
-C_FUNCTIONS = {"sin": "sin", "cos": "cos", "tan": "tan", "exp": "exp", "log": "log", "asin": "asin", "acos": "acos",
-               "atan": "atan", "atan2": "atan2", "sinh": "sinh", "cosh": "cosh", "tanh": "tanh", "Abs": "fabs",
-               "Min": "fmin", "Max": "fmax"}
-NUMPY_FUNCTIONS = {**{k: f"m.{f}" for k, f in C_FUNCTIONS.items()}, "sin": "sin", "cos": "cos", "asin": "m.arcsin",
-                   "acos": "m.arccos", "atan": "m.arctan", "atan2": "m.arctan2"}
+C_FUNCTIONS = {**{k: k for k in ("sin", "cos", "tan", "exp", "log", "asin", "acos", "atan", "atan2", "sinh",
+                                  "cosh", "tanh")}, "Abs": "fabs", "Min": "fmin", "Max": "fmax"}
+NUMPY_FUNCTIONS = {**{k: f"m.{f}" for k, f in C_FUNCTIONS.items()}, "sin": "sin", "cos": "cos",
+                   "asin": "m.arcsin", "acos": "m.arccos", "atan": "m.arctan", "atan2": "m.arctan2"}
 SUPPORTED = sorted({*C_FUNCTIONS, "sqrt", "Pow", "sign", "Heaviside", "Piecewise"})
 
 
@@ -50,12 +49,14 @@ class Syntax:
 
 PYTHON = Syntax(header="def {name}(q, u, ud, p, out, sin, cos, sqrt, m):", input="    {var} = {arg}[{k}]",
                 assign="    {var} = {expr}", out="    out[{i}, {j}] = {expr}",
-                mirror="    out[{j}, {i}] = out[{i}, {j}]", footer="    return out", power="m.power({b}, {e})",
+                mirror="    out[{j}, {i}] = out[{i}, {j}]", footer="    return out",
+                power="m.power({b}, {e})",
                 select="m.where({c}, {a}, {b})", sign="m.sign({x})", heaviside="m.heaviside({x}, {h})",
                 logic=("&", "|", "m.logical_not({c})"), nan="m.nan", functions=NUMPY_FUNCTIONS)
 C = Syntax(header="void {name}(const double *q, const double *u, const double *ud, const double *p, double *out)\n{{",
            input="    const double {var} = {arg}[{k}];", assign="    const double {var} = {expr};",
-           out="    out[{ij}] = {expr};", mirror="    out[{ji}] = out[{ij}];", footer="}}", power="pow({b}, {e})",
+           out="    out[{ij}] = {expr};", mirror="    out[{ji}] = out[{ij}];", footer="}}",
+           power="pow({b}, {e})",
            select="({c} ? {a} : {b})", sign="(({x} > 0) ? 1.0 : ({x} < 0) ? -1.0 : 0.0 * {x})",
            heaviside="(({x} > 0) ? 1.0 : ({x} < 0) ? 0.0 : {h} + 0.0 * {x})", logic=("&&", "||", "(!{c})"),
            nan="NAN", functions=C_FUNCTIONS)

@@ -7,8 +7,8 @@ class _Scalar:
     """The functions of generated code at one state but sin, cos, sqrt: math's, with numpy's names."""
 
     tan, exp, log, sinh, cosh, tanh = math.tan, math.exp, math.log, math.sinh, math.cosh, math.tanh
-    arcsin, arccos, arctan, arctan2, fabs, power, nan = (math.asin, math.acos, math.atan, math.atan2, math.fabs,
-                                                         math.pow, math.nan)
+    arcsin, arccos, arctan, arctan2 = math.asin, math.acos, math.atan, math.atan2
+    fabs, power, nan = math.fabs, math.pow, math.nan
 
     @staticmethod
     def sign(x):
@@ -59,7 +59,8 @@ def _call(f, shape, nq, nv, q, u=None, ud=None, p=()):
     p = [float(x) for x in p]
     if not batch:
         try:
-            return f(*[x.tolist() for x in args], p, numpy.zeros(shape), math.sin, math.cos, math.sqrt, _Scalar)
+            return f(*[x.tolist() for x in args], p, numpy.zeros(shape), math.sin, math.cos, math.sqrt,
+                     _Scalar)
         except (ArithmeticError, ValueError):  # math raises at a pole or off the domain, maybe in a branch
             pass  # of a Piecewise not taken: numpy's float64 scalars give IEEE results (inf, nan) as C does
     p = [numpy.float64(x) for x in p]
@@ -93,9 +94,9 @@ def mpmath_functions() -> type:
             return r if r.imag == 0 else mpmath.nan
         return staticmethod(g)
 
-    functions = {k: staticmethod(getattr(mpmath, k)) for k in ("sin", "cos", "tan", "tanh", "exp", "sinh", "cosh",
-                                                               "fabs")}
-    functions.update(arctan=staticmethod(mpmath.atan), arctan2=staticmethod(mpmath.atan2), sqrt=real(mpmath.sqrt),
-                     log=real(mpmath.log), arcsin=real(mpmath.asin), arccos=real(mpmath.acos),
-                     power=real(mpmath.power), nan=mpmath.nan)
+    smooth = ("sin", "cos", "tan", "tanh", "exp", "sinh", "cosh", "fabs")
+    functions = {k: staticmethod(getattr(mpmath, k)) for k in smooth}
+    functions.update(arctan=staticmethod(mpmath.atan), arctan2=staticmethod(mpmath.atan2),
+                     sqrt=real(mpmath.sqrt), log=real(mpmath.log), arcsin=real(mpmath.asin),
+                     arccos=real(mpmath.acos), power=real(mpmath.power), nan=mpmath.nan)
     return type("_Mpmath", (runtime_namespace()["_Scalar"],), functions)
