@@ -28,6 +28,14 @@ def is_trivial(expr: sp.Expr) -> bool:
     return isinstance(expr, (sp.sin, sp.cos)) and expr.args[0].is_Atom
 
 
+# d f(a) / da of the one-argument functions, given a and f(a)
+_RULES = {sp.sin: lambda a, f: sp.cos(a), sp.cos: lambda a, f: -sp.sin(a), sp.tan: lambda a, f: 1 + f**2,
+          sp.exp: lambda a, f: f, sp.log: lambda a, f: 1 / a, sp.asin: lambda a, f: 1 / sp.sqrt(1 - a**2),
+          sp.acos: lambda a, f: -1 / sp.sqrt(1 - a**2), sp.atan: lambda a, f: 1 / (1 + a**2),
+          sp.sinh: lambda a, f: sp.cosh(a), sp.cosh: lambda a, f: sp.sinh(a), sp.tanh: lambda a, f: 1 - f**2,
+          sp.Abs: lambda a, f: sp.sign(a)}
+
+
 class Subexpressions:
     """An ordered set of definitions x_k = e_k, with directional derivatives through them."""
 
@@ -82,8 +90,9 @@ class Subexpressions:
         return self._direct(expr, seeds, key)
 
     def _direct(self, expr: sp.Expr, seeds: Mapping[sp.Symbol, sp.Expr], key) -> sp.Expr:
-        """Forward-mode derivative of one definition: sum, product, power and sin/cos rules, the
-        symbols' derivatives from the seeds and the memo."""
+        """Forward-mode derivative of one definition: sum, product, power and the rules of the functions
+        the printers cover (real arguments: d|a| = sign(a) da, sign and Heaviside constant, Min / Max
+        by their branches), the symbols' derivatives from the seeds and the memo."""
         memo: dict = {}
 
         def d(e):
@@ -91,7 +100,7 @@ class Subexpressions:
                 return memo[e]
             if e.is_Symbol:
                 r = self._derivatives[(e, key)] if e in self.definitions else seeds.get(e, 0)
-            elif e.is_Number:
+            elif e.is_Number or isinstance(e, (sp.sign, sp.Heaviside)):
                 r = 0
             elif e.is_Add:
                 r = sp.Add(*[d(a) for a in e.args])
@@ -109,9 +118,18 @@ class Subexpressions:
                     r = sp.diff(e, base) * db + sp.diff(e, exp) * d(exp)
                 else:
                     r = 0 if db == 0 else exp * base ** (exp - 1) * db
-            elif isinstance(e, (sp.sin, sp.cos)):
+            elif isinstance(e, sp.Piecewise):
+                r = sp.Piecewise(*[(d(value), cond) for value, cond in e.args])
+            elif isinstance(e, (sp.Min, sp.Max)):  # the derivative of the argument that is the extremum
+                ge = sp.Ge if isinstance(e, sp.Max) else sp.Le
+                r = d(sp.Piecewise(*[(a, sp.And(*[ge(a, b) for b in e.args[i + 1:]]))
+                                     for i, a in enumerate(e.args)]))
+            elif isinstance(e, sp.atan2):
+                y, x = e.args
+                r = (x * d(y) - y * d(x)) / (x**2 + y**2)
+            elif type(e) in _RULES:
                 da = d(e.args[0])
-                r = 0 if da == 0 else (sp.cos(e.args[0]) if isinstance(e, sp.sin) else -sp.sin(e.args[0])) * da
+                r = 0 if da == 0 else _RULES[type(e)](e.args[0], e) * da
             else:  # any other function: the general rule, symbol by symbol
                 r = sp.Add(*[sp.diff(e, y) * d(y) for y in e.free_symbols if d(y) != 0])
             memo[e] = r

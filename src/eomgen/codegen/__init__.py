@@ -119,6 +119,8 @@ class NumericEoM:
         measuring float64 round-off."""
         import mpmath
 
+        from .runtime import mpmath_functions
+
         if key not in self.functions:
             self._on_demand(key)
         if key not in self._python:  # the Python text runs with any number type
@@ -127,9 +129,9 @@ class NumericEoM:
         with mpmath.workdps(digits):
             def mp(x, n):
                 return [mpmath.mpf(float(v)) for v in (np.zeros(n) if x is None else np.asarray(x, dtype=float))]
-            out = np.zeros(self.functions[key].shape, dtype=object)
+            out, m = np.zeros(self.functions[key].shape, dtype=object), mpmath_functions()
             self._python[key](mp(q, self.nq), mp(u, self.nv), mp(ud, self.nv),
-                              [mpmath.mpf(v) for v in self._p(params, key)], out, mpmath.sin, mpmath.cos, mpmath.sqrt)
+                              [mpmath.mpf(v) for v in self._p(params, key)], out, m.sin, m.cos, m.sqrt, m)
             return out
 
     def M(self, q, params=None) -> np.ndarray:
