@@ -14,7 +14,7 @@ from ..errors import ModelError
 from ..model import FreeFlyer
 from .contacts import contact_dynamics, row_names, support_projector
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
-from .parameters import actuated, bind, parameters_of
+from .parameters import Parameters, actuated, bind, parameters_of
 from .runtime import runtime_namespace
 
 _runtime = runtime_namespace()
@@ -48,7 +48,8 @@ def reads(source: str) -> dict[str, list[int]]:
 # the functions of the equations, and what they compute
 QUANTITIES = {"M": "mass matrix M(q)", "b": "Coriolis and centrifugal terms b(q, u)",
               "g": "gravity terms g(q) (left-hand side: M u̇ + b + g = τ + Sᵀ τ_a)", "nle": "b(q, u) + g(q)",
-              "tau": "generalized forces τ(q, u) of the loads (right-hand side)", "T": "kinetic energy T(q, u)",
+              "tau": "generalized forces τ(q, u) of the loads (right-hand side)",
+              "T": "kinetic energy T(q, u)",
               "U": "potential energy U(q) (gravity, springs, bending)"}
 
 
@@ -85,7 +86,7 @@ class NumericEoM:
         self.eom = eom
         self.nq, self.nv = len(eom.q), len(eom.u)
         self.params = sorted(eom.system.parameters, key=str)  # p[k] of the generated code, by name
-        self.parameters = parameters_of(self)
+        self.parameters = Parameters(self.params)
         self.S = np.array(eom.S.tolist(), dtype=float).reshape(-1, self.nv)
         self._writer = writer(eom)
         self.functions: dict[str, Generated] = {}

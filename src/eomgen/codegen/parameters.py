@@ -54,8 +54,8 @@ def _parameter_vector(names, index, used, values, positional=False):
         given.add(k)
     if unknown:
         raise _Error("params: unknown parameters %s; the parameters are %s" % (unknown, list(names)))
-    missing = [names[k] for k in sorted(used) if k not in given]
-    if missing:
+    if not given.issuperset(used):
+        missing = [names[k] for k in sorted(set(used) - given)]
         raise _Error("params: values missing for the parameters %s" % missing)
     if bad:
         raise _Error("params: the values of %s are not finite numbers" % bad)
@@ -87,6 +87,8 @@ parameter_vector, actuated = _runtime["_parameter_vector"], _runtime["_actuated"
 class Parameters:
     """The parameters of a model sorted by name: `names[k]` is p[k] of the generated code."""
 
+    values: np.ndarray | None = None  # p, once bound
+
     def __init__(self, symbols: Iterable[sp.Symbol]) -> None:
         self.symbols = sorted(symbols, key=str)
         self.names = tuple(str(s) for s in self.symbols)
@@ -94,7 +96,8 @@ class Parameters:
         if twice:
             raise ModelError(f"parameters {twice} each name two different symbols (other assumptions): "
                              "parameters are given by name, so their names must differ")
-        self.index = {**{n: k for k, n in enumerate(self.names)}, **{s: k for k, s in enumerate(self.symbols)}}
+        self.index = {**{n: k for k, n in enumerate(self.names)},
+                      **{s: k for k, s in enumerate(self.symbols)}}  # by name or by symbol
 
     def vector(self, values: Mapping | None, used: Iterable[int]) -> list[float]:
         """p from {name or symbol: value}; only the k in `used` must be given (the others are 0.0)."""
@@ -110,22 +113,22 @@ class BoundParameters(Parameters):
 
     def __init__(self, parameters: Parameters, p: list[float]) -> None:
         self.symbols, self.names, self.index = parameters.symbols, parameters.names, parameters.index
-        self.p = np.array(p, dtype=float)
-        self.p.flags.writeable = False
+        self.values = np.array(p, dtype=float)
+        self.values.flags.writeable = False
 
     def vector(self, values: Mapping | None, used: Iterable[int]) -> np.ndarray:
         if values is not None:
             raise ModelError("params: these functions have their parameter values bound (bind or "
                              "codegen(params=...)); call them without params, or bind new values")
-        return self.p
+        return self.values
 
     def bind(self, values: Mapping) -> BoundParameters:
         return Parameters(self.symbols).bind(values)
 
 
 def parameters_of(functions) -> Parameters:
-    """The `Parameters` of numeric `functions` (NumericEoM, NumericKane, ...), made on first use from
-    its symbols `params`."""
+    """The `Parameters` of numeric `functions` (a NumericKane's are made on first use from its symbols
+    `params`)."""
     found = vars(functions).get("parameters")
     if found is None:
         found = functions.parameters = Parameters(functions.params)
