@@ -14,6 +14,7 @@ from ..errors import ModelError
 from ..model import FreeFlyer
 from .contacts import contact_dynamics, row_names, support_projector
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
+from .parameters import Parameters, actuated, bind, parameters_of
 from .runtime import runtime_namespace
 
 _runtime = runtime_namespace()
@@ -33,7 +34,33 @@ class Generated:
     vector: Callable | None = None  # compiled: the column output as a vector
 
     def __post_init__(self) -> None:
-        self.params_used = {int(k) for k in re.findall(r"\b_p(\d+) =", self.source)}
+        self.params_used = frozenset(reads(self.source)["p"])
+
+
+def reads(source: str) -> dict[str, list[int]]:
+    """The entries of q, u, ud and p a generated function reads."""
+    found: dict[str, list[int]] = {"q": [], "u": [], "ud": [], "p": []}
+    for arg, k in re.findall(r"\b_(q|u|ud|p)(\d+) =", source):
+        found[arg].append(int(k))
+    return found
+
+
+# the functions of the equations, and what they compute
+QUANTITIES = {"M": "mass matrix M(q)", "b": "Coriolis and centrifugal terms b(q, u)",
+              "g": "gravity terms g(q) (left-hand side: M u̇ + b + g = τ + Sᵀ τ_a)", "nle": "b(q, u) + g(q)",
+              "tau": "generalized forces τ(q, u) of the loads (right-hand side)",
+              "T": "kinetic energy T(q, u)",
+              "U": "potential energy U(q) (gravity, springs, bending)"}
+
+
+def quantities(eom: EquationsOfMotion) -> list[str]:
+    """The quantities written for `eom`: M, b, g, nle, T, U as derived, and tau."""
+    return [k for k in QUANTITIES if k in eom.compact or k == "tau"]
+
+
+def expression(eom: EquationsOfMotion, key: str) -> sp.Basic:
+    """The compact expression of a quantity (in the intermediates)."""
+    return eom.tau_compact if key == "tau" else eom.compact[key]
 
 
 def writer(eom: EquationsOfMotion, syntax: Syntax = PYTHON) -> FunctionWriter:
@@ -52,13 +79,15 @@ class NumericEoM:
     (free cut) joint reactions of one `EquationsOfMotion`.
 
     q and u are arrays of shape (n,), or (N, n) for N states at once (evaluated without a Python
-    loop). Symbolic parameters (see `params`) are given as a mapping from the symbol or its name to a
-    value in each call; a function asks only for the ones it uses."""
+    loop). Symbolic parameters are given by name in a mapping {name: value} in each call (a function
+    asks only for the ones it uses), or fixed once with `bind` (see `eomgen.codegen.parameters`)."""
 
     def __init__(self, eom: EquationsOfMotion) -> None:
         self.eom = eom
         self.nq, self.nv = len(eom.q), len(eom.u)
-        self.params = sorted(eom.system.parameters, key=str)
+        self.params = sorted(eom.system.parameters, key=str)  # p[k] of the generated code, by name
+        self.parameters = Parameters(self.params)
+        self.S = np.array(eom.S.tolist(), dtype=float).reshape(-1, self.nv)
         self._writer = writer(eom)
         self.functions: dict[str, Generated] = {}
         self._python: dict[str, Callable] = {}  # Python versions for mpmath references
@@ -90,21 +119,19 @@ class NumericEoM:
 
     def _on_demand(self, key: str) -> None:
         """Write T, U or tau on first use; anything else missing was not derived."""
-        if key == "tau" or (key in ("T", "U") and key in self.eom.compact):
-            self._function(key, lambda: _expression(self.eom, key))
+        if key in quantities(self.eom):
+            self._function(key, lambda: expression(self.eom, key))
         else:
             raise ModelError(f"{key} was not derived: derive it (quantities=...) to evaluate it")
 
-    def _p(self, params: Mapping | None, key: str) -> list[float]:
-        """The parameter vector; only the parameters that function `key` uses must be given."""
-        if not self.params:
-            return []
-        by_name = {str(k): v for k, v in dict(params or {}).items()}
-        used = self.functions[key].params_used
-        missing = [str(s) for k, s in enumerate(self.params) if k in used and str(s) not in by_name]
-        if missing:
-            raise ModelError(f"values missing for the parameters {missing}")
-        return [float(by_name.get(str(s), np.nan)) for s in self.params]
+    def _p(self, params: Mapping | None, key: str) -> list[float] | np.ndarray:
+        """The parameter vector p for function `key` (the bound values, or those it uses from params)."""
+        return parameters_of(self).vector(params, self.functions[key].params_used)
+
+    def bind(self, params: Mapping) -> NumericEoM:
+        """The same functions with the parameter values fixed once ({name: value}, every parameter):
+        their calls take no params."""
+        return bind(self, params)
 
     def call(self, key: str, q, u=None, ud=None, params=None) -> np.ndarray:
         """Evaluate generated function `key` at q, u, u̇ (one state, or N states along axis 0)."""
@@ -200,21 +227,17 @@ class NumericEoM:
         return results[joint] if joint is not None else results
 
     def _h(self, q, u, tau_a, params) -> np.ndarray:
-        """h = Sᵀ τ_a + τ_loads − b − g."""
-        h = self.tau(q, u, params) - self.b(q, u, params) - self.g(q, params)
-        if tau_a is not None:
-            S = np.array(self.eom.S.tolist(), dtype=float).reshape(-1, self.nv)
-            h = h + np.asarray(tau_a, float) @ S
-        return h
+        """h = τ_loads + Sᵀ τ_a − b − g."""
+        return actuated(self.tau(q, u, params) - self.nle(q, u, params), tau_a, self.S)
 
-    def euler_singularity(self, q, tol: float = 1e-3) -> float | None:
+    def euler_singularity(self, q, tol: float = 1e-3, params=None) -> float | None:
         """For a ZYX Euler base: warn when the pitch is within `tol` of ±90° (where the angle rates are
         undefined and M is singular) and return cond(M); None when the state is regular."""
         for b in self.eom.system.bodies:
             if isinstance(b.joint, FreeFlyer) and b.joint.parametrization == "euler":
                 pitch = float(np.asarray(q, float)[b.q_index + 4])
                 if abs(np.cos(pitch)) < tol:
-                    cond = float(np.linalg.cond(self.M(q)))
+                    cond = float(np.linalg.cond(self.M(q, params)))
                     warnings.warn(f"joint '{b.joint.name}': pitch {pitch:.6f} rad is {abs(np.cos(pitch)):.1e} "
                                   f"from ±90°, where ZYX Euler angles are singular; cond(M) = {cond:.1e}",
                                   stacklevel=3)
@@ -225,7 +248,7 @@ class NumericEoM:
         """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g), solved numerically (no contacts); warns near an Euler-base
         singularity."""
         if np.ndim(q) == 1:
-            self.euler_singularity(q)
+            self.euler_singularity(q, params=params)
         return np.linalg.solve(self.M(q, params), self._h(q, u, tau_a, params)[..., None])[..., 0]
 
     # --- DC motors (one state at a time) --------------------------------------------------------
@@ -283,10 +306,6 @@ class NumericEoM:
         return N.T @ (self.M(q, params) @ np.asarray(ud, float) - self._h(q, u, tau_a, params))
 
 
-def _expression(eom, key: str):
-    return eom.tau_compact if key == "tau" else eom.compact[key]
-
-
 class NumericKane:
     """Numeric Kane's equations: mass_matrix(q, w), forcing(q, w), qdot(q, w), dependent_speeds(q, w),
     active_forces(q, w) in the independent speeds w, and `rhs(t, x)` for x = [q, w] (solve_ivp)."""
@@ -337,16 +356,19 @@ class NumericKane:
                                np.linalg.solve(self.mass_matrix(q, w, params), self.forcing(q, w, params))])
 
 
-def codegen(eom, backend: str = "numpy"):
+def codegen(eom, backend: str = "numpy", params: Mapping | None = None):
     """Numeric functions of an `EquationsOfMotion` (or of `KaneEquations`): backend "numpy", or "c"
-    (compiled with the machine's C compiler; same functions, per call and batched)."""
+    (compiled with the machine's C compiler; same functions, per call and batched). With `params`
+    ({name: value}, every parameter) the values are bound once and the calls take no params."""
     if backend not in BACKENDS:
         raise ModelError(f"unknown backend {backend!r}; available: {list(BACKENDS)}")
     if backend == "c":
         from .c_backend import CompiledEoM, CompiledKane
 
-        return CompiledKane(eom) if hasattr(eom, "independent") else CompiledEoM(eom)
-    return NumericKane(eom) if hasattr(eom, "independent") else NumericEoM(eom)
+        f = CompiledKane(eom) if hasattr(eom, "independent") else CompiledEoM(eom)
+    else:
+        f = NumericKane(eom) if hasattr(eom, "independent") else NumericEoM(eom)
+    return f if params is None else bind(f, params)
 
 
 from .module import module_source, write_module  # noqa: E402  (module builds on NumericEoM)
