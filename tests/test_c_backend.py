@@ -116,7 +116,7 @@ def test_extension_is_cached(tmp_path, monkeypatch):
     eom = eg.derive(eg.robots.load("double_pendulum"), method="recursive")
     eg.codegen(eom, backend="c")
     built = {p: p.stat().st_mtime_ns for p in tmp_path.iterdir()}
-    assert len(built) == 1
+    assert len([p for p in built if p.suffix == ".so"]) == 1
     f = eg.codegen(eom, backend="c")
     assert {p: p.stat().st_mtime_ns for p in tmp_path.iterdir()} == built
     assert f.M(np.zeros(2)).shape == (2, 2)
