@@ -22,6 +22,11 @@ P = {"m": 1.3, "I_x": 0.05, "I_y": 0.05, "I_z": 0.1, "a": 0.4, "l": 0.7, "R": 0.
      "tau_d": 0.3, "tau_s": -0.2, "b": 0.8}
 
 
+def given(f, values=P) -> dict:
+    """The values of the parameters of numeric functions `f` (unknown names are refused)."""
+    return {str(s): values[str(s)] for s in f.params}
+
+
 def _number(expr, values) -> np.ndarray:
     return np.array(me.msubs(expr, values).evalf(30).tolist(), dtype=float)
 
@@ -42,15 +47,15 @@ def test_equals_sympy_kanes_method(case):
     rng = np.random.default_rng(12)
     for _ in range(4):
         q, w = rng.uniform(-1.5, 1.5, system.nq), rng.uniform(-1.5, 1.5, p)
-        w_dep = f.dependent_speeds(q, w, P)
+        w_dep = f.dependent_speeds(q, w, given(f))
         values = {**params, **dict(zip(qs, q)), **dict(zip(km.u, [*w, *w_dep]))}
         np.testing.assert_allclose(_number(km._f_nh, values) if len(w_dep) else [], 0, atol=1e-12)
-        np.testing.assert_allclose(f.active_forces(q, w, P), _number(km._fr, values)[:, 0], atol=1e-12)
+        np.testing.assert_allclose(f.active_forces(q, w, given(f)), _number(km._fr, values)[:, 0], atol=1e-12)
         M_s, F_s = _number(MM, values), _number(F, values)[:, 0]
         for wd in rng.uniform(-1, 1, (2, p)):
             wd_dep = np.linalg.solve(M_s[p:, p:], F_s[p:] - M_s[p:, :p] @ wd) if o > p else []
             sympy_residual = F_s[:p] - M_s[:p] @ np.r_[wd, wd_dep]
-            ours = f.forcing(q, w, P) - f.mass_matrix(q, w, P) @ wd
+            ours = f.forcing(q, w, given(f)) - f.mass_matrix(q, w, given(f)) @ wd
             np.testing.assert_allclose(ours, sympy_residual, rtol=1e-10, atol=1e-10)
 
 
@@ -66,7 +71,7 @@ def test_closed_forms_equal_generated_code(case):
     values = {**{s: P[s.name] for s in k.parameters}, **dict(zip(system.q, q)), **dict(zip(k.independent, w))}
     for key in ("mass_matrix", "forcing", "qdot", "dependent_speeds", "active_forces"):
         closed = np.array(getattr(k, key).xreplace(values).evalf(30).tolist(), dtype=float)
-        np.testing.assert_allclose(getattr(f, key)(q, w, P), closed.reshape(getattr(f, key)(q, w, P).shape),
+        np.testing.assert_allclose(getattr(f, key)(q, w, given(f)), closed.reshape(getattr(f, key)(q, w, given(f)).shape),
                                    rtol=1e-12, atol=1e-12)
 
 
@@ -85,7 +90,7 @@ def test_pythagoras_dependent_speeds():
     f = eg.codegen(eg.kane(system, **args))
     for x3 in (0.0, 0.7, np.pi / 2, -2.1):
         q = np.array([0.3, -0.2, x3])
-        np.testing.assert_allclose(f.dependent_speeds(q, [1.7], P), [np.cos(x3) * 1.7 / P["a"], 1.7],
+        np.testing.assert_allclose(f.dependent_speeds(q, [1.7], given(f)), [np.cos(x3) * 1.7 / P["a"], 1.7],
                                    rtol=1e-14, atol=1e-14)
 
 
@@ -100,11 +105,11 @@ def test_rotation_block_finite_at_zero():
         q = np.c_[np.zeros((len(x3), 2)), x3]
         w = np.full((len(x3), 1), 1.3)
         expected = P["b"] * 1.3 * np.c_[np.cos(x3), -np.sin(x3)]
-        np.testing.assert_allclose(f.dependent_speeds(q, w, P), expected, rtol=1e-14, atol=1e-14)
-        np.testing.assert_allclose(f.dependent_speeds(q[0], w[0], P), expected[0], rtol=1e-14, atol=1e-14)
+        np.testing.assert_allclose(f.dependent_speeds(q, w, given(f)), expected, rtol=1e-14, atol=1e-14)
+        np.testing.assert_allclose(f.dependent_speeds(q[0], w[0], given(f)), expected[0], rtol=1e-14, atol=1e-14)
         x = np.c_[q, w]
-        assert np.all(np.isfinite(f.rhs(0, x, P))) and np.all(np.isfinite(f.rhs(0, x[0], P)))
-        np.testing.assert_allclose(f.rhs(0, x, P)[3], f.rhs(0, x[3], P), rtol=1e-13)
+        assert np.all(np.isfinite(f.rhs(0, x, given(f)))) and np.all(np.isfinite(f.rhs(0, x[0], given(f))))
+        np.testing.assert_allclose(f.rhs(0, x, given(f))[3], f.rhs(0, x[3], given(f)), rtol=1e-13)
 
 
 def test_parameter_only_in_a_constraint():
@@ -116,9 +121,9 @@ def test_parameter_only_in_a_constraint():
     assert K.b in k.parameters and "b" in [str(s) for s in f.params]
     q, w = np.array([0.1, 0.2, 0.4]), np.array([0.9])
     with pytest.raises(eg.ModelError, match=r"values missing for the parameters \['b'\]"):
-        f.dependent_speeds(q, w, {k: v for k, v in P.items() if k != "b"})
-    one, two = (f.rhs(0, np.r_[q, w], {**P, "b": b}) for b in (0.8, 1.6))
-    np.testing.assert_allclose(f.dependent_speeds(q, w, {**P, "b": 1.6}), 2 * f.dependent_speeds(q, w, P))
+        f.dependent_speeds(q, w, {k: v for k, v in given(f).items() if k != "b"})
+    one, two = (f.rhs(0, np.r_[q, w], {**given(f), "b": b}) for b in (0.8, 1.6))
+    np.testing.assert_allclose(f.dependent_speeds(q, w, {**given(f), "b": 1.6}), 2 * f.dependent_speeds(q, w, given(f)))
     assert not np.allclose(one, two)
 
 
@@ -170,7 +175,7 @@ def test_skate_equilibrium():
     for at, expected in ((0, [0, 0]), (K.l, [0, P["F"] * P["l"]])):
         system, args = K.skate(force_at=at, solved=False)
         f = eg.codegen(eg.kane(system, **args))
-        np.testing.assert_allclose(f.active_forces(x[:, :3], x[:, 3:], P), np.tile(expected, (6, 1)), atol=1e-14)
+        np.testing.assert_allclose(f.active_forces(x[:, :3], x[:, 3:], given(f)), np.tile(expected, (6, 1)), atol=1e-14)
 
 
 @pytest.mark.parametrize("case,backend", [("skate", "numpy"), ("rolling_disk", "numpy"), ("rolling_disk", "c")])
@@ -181,7 +186,7 @@ def test_simulation_keeps_constraints_and_energy(case, backend, tmp_path, monkey
     system, args = (K.skate(force_at=None, solved=False) if case == "skate" else K.rolling_disk())
     k = eg.kane(system, **args)
     f = eg.codegen(k, backend=backend)
-    p = {"m": 1.3, "I_x": 0.05, "I_y": 0.05, "I_z": 0.1, "a": 0.4, "l": 0.7, "R": 0.3, "g": 9.81}
+    p = given(f)
     if case == "skate":
         x0 = np.r_[0.1, -0.2, 0.3, 1.2, 0.8]  # q, then (speed along the runner, turning rate)
     else:
@@ -205,7 +210,7 @@ def test_simulation_keeps_constraints_and_energy(case, backend, tmp_path, monkey
         q, w = x[:nq], x[nq:]
         qd = f.qdot(q, w, p)  # q̇ = u of the joints
         energies.append(eom.T(q, qd, p) + eom.U(q, p))
-        residuals.append(max(abs(c) for c in constraint(q, qd, [p["R"]])))
+        residuals.append(max(abs(c) for c in constraint(q, qd, [P["R"]])))
     assert max(residuals) < 1e-8
     assert np.ptp(energies) < 1e-8 * max(1.0, abs(energies[0]))
 
