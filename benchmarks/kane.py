@@ -1,6 +1,8 @@
 """Kane's method: eomgen's `kane` beside sympy.physics.mechanics.KanesMethod, derivation time on the
-rolling disk (nonholonomic) and on the n-link chain of derive_chain.py (holonomic), in one run,
-checking that the equations agree numerically. Prints a table and writes JSON.
+rolling disk (nonholonomic), a Whipple-like bicycle (five nonholonomic constraints, a dense 5 × 5
+C_dep; eomgen only: derivation, and code generation separately) and the n-link chain of
+derive_chain.py (holonomic), in one run, checking that the chain's equations agree numerically.
+Prints a table and writes JSON.
 
 Run: python benchmarks/kane.py [--max-n 10] [--out benchmarks/results/kane.json]"""
 from __future__ import annotations
@@ -36,6 +38,16 @@ def rolling_disk() -> dict:
     return {"system": "rolling disk", "eomgen_s": t_ours, "KanesMethod_s": t_sympy}
 
 
+def bicycle() -> dict:
+    system, args, _ = kane_systems.bicycle()
+    t_ours, k = timed(lambda: eg.kane(system, **args))
+    t_code, f = timed(lambda: eg.codegen(k))
+    x = np.r_[np.zeros(system.nq), 0.05, 15.0, 0.02]
+    t_rhs, _ = timed(lambda: [f.rhs(0, x, {"m_b": 85.0, "g": 9.81}) for _ in range(100)])
+    return {"system": "bicycle (5 constraints)", "eomgen_s": t_ours, "KanesMethod_s": float("nan"),
+            "codegen_s": t_code, "rhs_us": t_rhs * 1e4}
+
+
 def chain(n: int, state) -> dict:
     system = derive_chain.eomgen_chain(n)
     t_ours, k = timed(lambda: eg.kane(system))
@@ -62,11 +74,12 @@ def main() -> None:
     ap.add_argument("--out", default=results_io.default_path("kane"))
     args = ap.parse_args()
     rng = np.random.default_rng(0)
-    rows = [rolling_disk()] + [chain(n, derive_chain.random_state(n, rng)) for n in range(1, args.max_n + 1)]
-    print(f"{'system':16s} {'eomgen [s]':>11s} {'KanesMethod [s]':>16s} {'ratio':>7s} {'max diff':>9s}")
+    rows = [rolling_disk(), bicycle()] + [chain(n, derive_chain.random_state(n, rng)) for n in range(1, args.max_n + 1)]
+    print(f"{'system':24s} {'eomgen [s]':>11s} {'KanesMethod [s]':>16s} {'ratio':>7s} {'max diff':>9s}")
     for r in rows:
-        print(f"{r['system']:16s} {r['eomgen_s']:11.3f} {r['KanesMethod_s']:16.3f} "
-              f"{r['KanesMethod_s'] / r['eomgen_s']:6.1f}x {r.get('max_abs_diff', float('nan')):9.1e}")
+        print(f"{r['system']:24s} {r['eomgen_s']:11.3f} {r['KanesMethod_s']:16.3f} "
+              f"{r['KanesMethod_s'] / r['eomgen_s']:6.1f}x {r.get('max_abs_diff', float('nan')):9.1e}"
+              + (f"  codegen {r['codegen_s']:.2f} s, rhs {r['rhs_us']:.0f} µs" if "codegen_s" in r else ""))
     results_io.write(args.out, "kane", rows, sympy=sp.__version__)
 
 

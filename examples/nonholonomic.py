@@ -18,10 +18,12 @@ def _planar_base(system, names, mass_last=0):
     return system.add_body("rail_y", parent=px, joint=eg.Prismatic(names[1], axis=(0, 1, 0)), mass=mass_last)
 
 
-def skate(force_at=None):
+def skate(force_at=None, solved=True):
     """Runner through C = (x1, x2), heading x3; centre of mass at a, point P at l along the runner.
     Speeds: along the runner, turning rate, sideways (dependent, constrained to 0). force_at: a force F
-    perpendicular to the runner at distance force_at from C."""
+    perpendicular to the runner at distance force_at from C. The kinematic equations solved for q̇
+    (q̇ = W w: closed forms exist), or with solved=False as w = Wᵀ q̇ (Y = −Wᵀ: its pivots cos x3,
+    sin x3 are not provably nonzero, so only the generated code, which solves numerically)."""
     system = eg.System(gravity=(0, 0, -g))
     base = _planar_base(system, ("x_1", "x_2"))
     body = system.add_body("skate", parent=base, joint=eg.Revolute("x_3", axis=(0, 0, 1)), mass=m,
@@ -30,7 +32,9 @@ def skate(force_at=None):
         system.add_force(body, (0, F, 0), point=(force_at, 0, 0), in_body_frame=True)
     x1d, x2d, x3d = system.u
     x3 = system.q[2]
-    kdes = [u1 - (sp.cos(x3) * x1d + sp.sin(x3) * x2d), u2 - x3d, u3 - (-sp.sin(x3) * x1d + sp.cos(x3) * x2d)]
+    c, s = sp.cos(x3), sp.sin(x3)
+    kdes = ([x1d - (c * u1 - s * u3), x2d - (s * u1 + c * u3), x3d - u2] if solved else
+            [u1 - (c * x1d + s * x2d), u2 - x3d, u3 - (-s * x1d + c * x2d)])
     return system, dict(speeds=[u1, u2, u3], kinematic_equations=kdes, nonholonomic=[u3], independent=[u1, u2])
 
 

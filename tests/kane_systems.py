@@ -1,8 +1,12 @@
-"""The sympy.physics.mechanics twins of the systems in examples/nonholonomic.py."""
+"""The sympy.physics.mechanics twins of the systems in examples/nonholonomic.py; planar bodies with
+constraints that defeat symbolic pivoting; a Whipple-like bicycle (five nonholonomic constraints)."""
 import sys
 from pathlib import Path
 
 import sympy as sp
+
+import eomgen as eg
+from eomgen.model.loads import Point
 import sympy.physics.mechanics as me
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "examples"))
@@ -10,9 +14,9 @@ from nonholonomic import F, I_x, I_y, I_z, R, a, g, l, m, particle, rolling_disk
 from nonholonomic import u1, u2, u3  # noqa: E402,F401
 
 
-def skate_sympy(force_at=None):
+def _skate_frame(force_at):
+    """The skate in sympy: (N, x1, x2, x3, body, loads) with the velocity of C = (ẋ1, ẋ2)."""
     x1, x2, x3 = me.dynamicsymbols("x_1 x_2 x_3")
-    w1, w2, w3 = me.dynamicsymbols("u1 u2 u3")
     N = me.ReferenceFrame("N")
     A = N.orientnew("A", "Axis", [x3, N.z])
     C = me.Point("C")
@@ -25,6 +29,12 @@ def skate_sympy(force_at=None):
         P = C.locatenew("P", force_at * A.x)
         P.v2pt_theory(C, N, A)
         loads.append((P, F * A.y))
+    return N, x1, x2, x3, body, loads
+
+
+def skate_sympy(force_at=None):
+    N, x1, x2, x3, body, loads = _skate_frame(force_at)
+    w1, w2, w3 = me.dynamicsymbols("u1 u2 u3")
     kdes = [w1 - (sp.cos(x3) * x1.diff() + sp.sin(x3) * x2.diff()), w2 - x3.diff(),
             w3 - (-sp.sin(x3) * x1.diff() + sp.cos(x3) * x2.diff())]
     km = me.KanesMethod(N, q_ind=[x1, x2, x3], u_ind=[w1, w2], u_dependent=[w3], kd_eqs=kdes,
@@ -64,3 +74,92 @@ def rolling_disk_sympy(torques=False):
                         velocity_constraints=[ux - R * uph * sp.cos(th), uy - R * uph * sp.sin(th)])
     km.kanes_equations([disk], loads)
     return km, [x, y, th, ph], [uth, uph]
+
+
+# --- planar bodies whose constraint matrices defeat symbolic pivoting (speeds q̇ = (ẋ1, ẋ2, ẋ3)) -------
+b = sp.Symbol("b", positive=True)  # appears only in a constraint
+
+
+def pythagoras(q, qd):
+    """(cos²x3 + sin²x3 − 1) ẋ1 + ẋ2 − ẋ3 = 0, a ẋ1 − cos x3 ẋ3 = 0: ẋ1 = cos x3 ẋ3 / a, ẋ2 = ẋ3.
+    The first entry is zero but not recognised as zero."""
+    c, s = sp.cos(q[2]), sp.sin(q[2])
+    return [(c**2 + s**2 - 1) * qd[0] + qd[1] - qd[2], a * qd[0] - c * qd[2]]
+
+
+def pythagoras_sympy_form(q, qd):
+    """The same constraints as sympy is given them: ẋ2 − ẋ3 = 0, a ẋ1 − cos x3 ẋ3 = 0."""
+    return [qd[1] - qd[2], a * qd[0] - sp.cos(q[2]) * qd[2]]
+
+
+def rotation(q, qd):
+    """C_dep = [[sin x3, cos x3], [cos x3, −sin x3]] (a rotation with its rows swapped):
+    sin x3 ẋ1 + cos x3 ẋ2 = 0, cos x3 ẋ1 − sin x3 ẋ2 − b ẋ3 = 0; by hand (C_dep⁻¹ = C_dep)
+    ẋ1 = b cos x3 ẋ3, ẋ2 = −b sin x3 ẋ3."""
+    c, s = sp.cos(q[2]), sp.sin(q[2])
+    return [s * qd[0] + c * qd[1], c * qd[0] - s * qd[1] - b * qd[2]]
+
+
+def constrained_skate(constraints, force_at=None):
+    """The skate's body and loads with speeds q̇, `constraints(q, q̇)` and ẋ3 independent."""
+    system, _ = skate(force_at)
+    return system, dict(nonholonomic=constraints(system.q, system.u), independent=[system.u[2]])
+
+
+def constrained_skate_sympy(constraints, force_at=None):
+    """sympy's KanesMethod for `constrained_skate`: (km, q, w_ind) with speeds q̇ (ẋ1, ẋ2 dependent)."""
+    N, x1, x2, x3, body, loads = _skate_frame(force_at)
+    q = [x1, x2, x3]
+    u = me.dynamicsymbols("v_1 v_2 v_3")
+    km = me.KanesMethod(N, q_ind=q, u_ind=[u[2]], u_dependent=u[:2],
+                        kd_eqs=[qi.diff() - ui for qi, ui in zip(q, u)], velocity_constraints=constraints(q, u))
+    km.kanes_equations([body], loads)
+    return km, q, [u[2]]
+
+
+# --- a Whipple-like bicycle: five nonholonomic constraints, a dense trigonometric 5 × 5 C_dep -------------
+m_b, g_b = sp.symbols("m_b g", positive=True)
+BIKE = dict(R=sp.Float(0.3), wheelbase=sp.Float(1.02), trail=sp.Float(0.08), tilt=sp.Float(0.314))
+
+
+def bicycle():
+    """Rear contact (x, y) on rails, yaw ψ, roll φ about the heading, the rear frame pitching θ about the
+    rear axle (height R), the rear wheel spinning on the frame, the steer δ about an axis tilted back by
+    λ through the point `trail` ahead of the front contact, the front wheel spinning on the fork.
+    Speeds q̇; independent φ̇, rear spin, δ̇. Constraints: no slip of the rear wheel at the rails'
+    point (x, y) and of the front wheel at its lowest point (x, y, z; z is the derivative of the
+    holonomic contact condition). Upright (q = 0) both wheels touch the ground.
+    Returns (system, kane arguments, front contact height(q) as an expression)."""
+    R, wb, c, lam = BIKE["R"], BIKE["wheelbase"], BIKE["trail"], BIKE["tilt"]
+    system = eg.System(gravity=(0, 0, -g_b))
+    base = system.add_body("rail_y", parent=system.add_body("rail_x", joint=eg.Prismatic("x", axis=(1, 0, 0))),
+                           joint=eg.Prismatic("y", axis=(0, 1, 0)))
+    yaw = system.add_body("yaw", parent=base, joint=eg.Revolute("psi", axis=(0, 0, 1)))
+    roll = system.add_body("roll", parent=yaw, joint=eg.Revolute("phi", axis=(1, 0, 0)))
+    frame = system.add_body("frame", parent=roll, joint=eg.Revolute("theta", axis=(0, 1, 0)), mass=m_b,
+                            com=(0.3, 0, 0.6), inertia=sp.diag(9.2, 11, 2.8),
+                            placement=eg.Placement(translation=(0, 0, R)))
+    rear = system.add_body("rear_wheel", parent=frame, joint=eg.Revolute("theta_r", axis=(0, 1, 0)), mass=2,
+                           inertia=sp.diag(0.0603, 0.12, 0.0603))
+    steer_at = wb + c - R * sp.tan(lam)  # on the steer axis, at the height of the front axle
+    fork = system.add_body("fork", parent=frame, joint=eg.Revolute("delta", axis=(-sp.sin(lam), 0, sp.cos(lam))),
+                           mass=4, com=(0.02, 0, 0.5), inertia=sp.diag(0.05, 0.06, 0.02),
+                           placement=eg.Placement(translation=(steer_at, 0, 0)))
+    front = system.add_body("front_wheel", parent=fork, joint=eg.Revolute("theta_f", axis=(0, 1, 0)), mass=3,
+                            inertia=sp.diag(0.1405, 0.28, 0.1405),
+                            placement=eg.Placement(translation=(wb - steer_at, 0, 0)))
+    kin = eg.Kinematics(system)
+    closed = kin.sub.inline
+
+    def slip(wheel, contact_offset):  # velocity of the wheel's material point at the contact
+        v, w = closed(kin.velocity(Point(wheel, sp.zeros(3, 1)))), closed(kin.omega(wheel))
+        return v + w.cross(contact_offset)
+    down_r = -R * closed(kin.R[roll][:, 2])
+    axle = closed(kin.R[front][:, 1])
+    z = sp.Matrix([0, 0, 1])
+    in_plane = z - axle[2] * axle  # ẑ projected on the wheel plane
+    down_f = -R * in_plane / sp.sqrt(1 - axle[2] ** 2)
+    rear_slip, front_slip = slip(rear, down_r), slip(front, down_f)
+    height = closed(kin.p[front])[2] + down_f[2]
+    qd = system.u
+    return system, dict(nonholonomic=[*rear_slip[:2], *front_slip], independent=[qd[3], qd[5], qd[6]]), height

@@ -306,56 +306,6 @@ class NumericEoM:
         return N.T @ (self.M(q, params) @ np.asarray(ud, float) - self._h(q, u, tau_a, params))
 
 
-class NumericKane:
-    """Numeric Kane's equations: mass_matrix(q, w), forcing(q, w), qdot(q, w), dependent_speeds(q, w),
-    active_forces(q, w) in the independent speeds w, and `rhs(t, x)` for x = [q, w] (solve_ivp)."""
-
-    syntax = PYTHON
-
-    def __init__(self, kane) -> None:
-        self.kane = kane
-        self.nq, self.nv = len(kane.system.q), len(kane.independent)
-        self.params = sorted(kane.system.parameters, key=str)
-        writer = FunctionWriter(kane.subexpressions, {"q": list(kane.system.q), "u": list(kane.independent),
-                                                      "ud": [], "p": self.params}, self.syntax)
-        written = []
-        for i, key in enumerate(("mass_matrix", "forcing", "qdot", "dependent_speeds", "F_r")):
-            source, shape, ops = writer.source(f"e{i}", kane.compact[key], symmetric=key == "mass_matrix")
-            written.append((key, source, shape, ops, writer.trig_indices))
-        self.functions: dict[str, Generated] = self._compile(written)
-
-    def _compile(self, written: list) -> dict[str, Generated]:
-        return {key: Generated(source, shape, ops, compile_function(source, key, f"e{i}"))
-                for i, (key, source, shape, ops, _) in enumerate(written)}
-
-    _p = NumericEoM._p
-
-    def _call(self, key, q, w, params):
-        f = self.functions[key]
-        return _call(f.function, f.shape, self.nq, self.nv, q, w, None, self._p(params, key))
-
-    def mass_matrix(self, q, w=None, params=None) -> np.ndarray:
-        return self._call("mass_matrix", q, w, params)
-
-    def forcing(self, q, w, params=None) -> np.ndarray:
-        return self._call("forcing", q, w, params)[..., 0]
-
-    def qdot(self, q, w, params=None) -> np.ndarray:
-        return self._call("qdot", q, w, params)[..., 0]
-
-    def dependent_speeds(self, q, w, params=None) -> np.ndarray:
-        return self._call("dependent_speeds", q, w, params)[..., 0]
-
-    def active_forces(self, q, w, params=None) -> np.ndarray:
-        return self._call("F_r", q, w, params)[..., 0]
-
-    def rhs(self, t, x, params=None) -> np.ndarray:
-        """d/dt [q, w] = [Γ w + Θ, M̃⁻¹ f̃]."""
-        q, w = x[:self.nq], x[self.nq:]
-        return np.concatenate([self.qdot(q, w, params),
-                               np.linalg.solve(self.mass_matrix(q, w, params), self.forcing(q, w, params))])
-
-
 def codegen(eom, backend: str = "numpy", params: Mapping | None = None):
     """Numeric functions of an `EquationsOfMotion` (or of `KaneEquations`): backend "numpy", or "c"
     (compiled with the machine's C compiler; same functions, per call and batched). With `params`
@@ -363,7 +313,7 @@ def codegen(eom, backend: str = "numpy", params: Mapping | None = None):
     if backend not in BACKENDS:
         raise ModelError(f"unknown backend {backend!r}; available: {list(BACKENDS)}")
     if backend == "c":
-        from .c_backend import CompiledEoM, CompiledKane
+        from .c_backend import CompiledEoM
 
         f = CompiledKane(eom) if hasattr(eom, "independent") else CompiledEoM(eom)
     else:
@@ -373,3 +323,4 @@ def codegen(eom, backend: str = "numpy", params: Mapping | None = None):
 
 from .module import module_source, write_module  # noqa: E402  (module builds on NumericEoM)
 from .c_backend import write_c  # noqa: E402
+from .kane import CompiledKane, NumericKane  # noqa: E402,F401

@@ -11,7 +11,7 @@ import numpy as np
 from .. import __version__
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
-from . import QUANTITIES, Generated, NumericEoM, NumericKane, expression, quantities, reads, writer
+from . import QUANTITIES, Generated, NumericEoM, expression, quantities, reads, writer
 from .extension import build, compiler, python_headers
 from .numpy_backend import C, C_TRIG
 
@@ -83,24 +83,6 @@ def extension_functions(written: list, nq: int, nv: int, n_params: int) -> dict[
     module = build([(source, shape, trig) for _, source, shape, _, trig in written], nq, nv, n_params)
     return {key: Generated(source, shape, ops, getattr(module, f"m{i}"), getattr(module, f"v{i}"))
             for i, (key, source, shape, ops, _) in enumerate(written)}
-
-
-class CompiledKane(NumericKane):
-    """`NumericKane` compiled from C: the same functions, per call and batched."""
-
-    syntax = C_TRIG
-
-    def __init__(self, kane) -> None:
-        compiler(), python_headers()
-        super().__init__(kane)
-
-    def _compile(self, written: list) -> dict[str, Generated]:
-        return extension_functions(written, self.nq, self.nv, len(self.params))
-
-    _pvec = CompiledEoM._pvec
-
-    def _call(self, key, q, w, params):
-        return self.functions[key].function(q, w, None, self._pvec(params, key))
 
 
 def comment(text: str) -> str:

@@ -1,69 +1,207 @@
 """Kane's equations with generalized speeds and nonholonomic constraints (SEEDS.md §2).
 
-Generalized speeds w are defined by kinematic equations linear in q̇ and w, so q̇ = W w + X. Velocity
-constraints linear in w split the speeds: w_dep = A w_ind + B, hence q̇ = Γ w_ind + Θ. For every body
-the velocities v_S = J_P q̇, Ω = J_R q̇ give the nonholonomic partial velocities ṽ_r = ∂v_S/∂w_r,
-ω̃_r = ∂Ω/∂w_r (r over the p independent speeds), and Kane's p equations F̃_r + F̃*_r = 0 with
+The generalized speeds w are defined by kinematic equations linear in q̇ and w, and split by velocity
+constraints linear in w into p independent and m dependent ones:
 
-    F̃_r  = Σ ṽ_r · (m g⃗ + F) + ω̃_r · T                           (generalized active forces)
-    F̃*_r = −Σ ṽ_r · m a_S + ω̃_r · (Θ α + Ω × Θ Ω)                 (generalized inertia forces)
+    Y(q) q̇ + K(q) w + k0(q) = 0,        C(q) w + c0(q) = 0,   C w = C_dep w_dep + C_ind w_ind.
 
-a_S = Σ_s ṽ_s ẇ_s + d/dt v_S |_(ẇ=0) (chain rule with q̇ = Γ w + Θ). Written as M̃ ẇ_ind = f̃."""
+The equations of motion in q̇, M(q) q̈ = h(q, q̇) (projected Newton-Euler: h = τ_loads − b − g, i.e.
+Kane's F_r + F*_r with the holonomic partial velocities, the columns of J_P and J_R) are derived
+symbolically, with Y, K, k0, C, c0 and their time derivatives at q̈ = 0, ẇ = 0. Everything that
+needs a matrix inverse is left to the numbers (see `codegen.kane`), solved with pivoting:
+
+    w_dep = −C_dep⁻¹ (C_ind w_ind + c0),   q̇ = −Y⁻¹ (K w + k0),
+    P = ∂q̇/∂w_ind = −Y⁻¹ K T,   T = ∂w/∂w_ind = [I; −C_dep⁻¹ C_ind],
+    ẇ_dep,0 = −C_dep⁻¹ d/dt(C w + c0)|_(ẇ=0),   q̈₀ = −Y⁻¹ (K ẇ₀ + d/dt(Y q̇ + K w + k0)|_(q̈=0, ẇ=0)),
+    M̃ = Pᵀ M P,   f̃ = Pᵀ (h − M q̈₀),   F̃_r = Pᵀ (τ_loads − g)
+
+and M̃ ẇ_ind = f̃ are Kane's p equations F̃_r + F̃*_r = 0. Invertibility of C_dep and Y is checked at
+random states; the closed forms solve symbolically only on pivots proven nonzero."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
 import sympy as sp
 
-from ..eom import ClosedForms, closed_form
+from ..codegen.numpy_backend import FunctionWriter, compile_function
+from ..codegen.runtime import runtime_namespace
+from ..eom import ClosedForms, EquationsOfMotion
 from ..errors import ModelError
 from ..kinematics import Kinematics
-from ..linalg import cross, dot, matmul, scale
-from ..model import FreeFlyer
-from ..model.loads import Point
+from ..model import FlexibleLink, FreeFlyer
 from ..model.system import System
-from .applied import applied_wrenches
+from . import projected_newton_euler
+
+SAMPLES = 5  # random states for the invertibility checks
+COND_LIMIT = 1e12
+NUMERIC = "eg.codegen(k) solves it numerically with pivoting"
 
 
 @dataclass(eq=False)
 class KaneEquations(ClosedForms):
-    """M̃(q) ẇ_ind = f̃(q, w_ind) and q̇ = Γ w_ind + Θ; closed forms on access, compact forms in
-    `compact` (named intermediates of `subexpressions`)."""
+    """Kane's equations M̃(q) ẇ_ind = f̃(q, w_ind) with q̇ = q̇(q, w_ind). `compact` holds the pieces in
+    named intermediates (`subexpressions`), in q, q̇ = system.u and the speeds w:
+    "M" (n × n), "h" ([h | τ_loads − g], n × 2), "Y" ([Y | K | k0], n × (2n + 1)),
+    "C" ([C | c0], m × (n + 1)) and "rates" ([d/dt(Y q̇ + K w + k0); d/dt(C w + c0)] at q̈ = 0, ẇ = 0)."""
 
     system: System
     kinematics: Kinematics
     speeds: list  # all generalized speeds w
     independent: list  # w_ind (p of them)
     dependent: list  # w_dep (m = n − p)
-    compact: dict = field(default_factory=dict)  # mass_matrix, forcing, qdot, dependent_speeds, F_r
+    compact: dict = field(default_factory=dict)
+    parameters: set = field(default_factory=set)  # the system's, the constraints' and the kinematic equations'
+    eom: EquationsOfMotion | None = None  # the equations in q̇ (M, b, g, τ, T, U)
     _closed: dict = field(default_factory=dict, repr=False)
 
-    mass_matrix = closed_form("mass_matrix", "M̃ (p × p), the coefficients of ẇ_ind in −F̃*_r.")
-    forcing = closed_form("forcing", "f̃ = F̃_r + F̃*_r|_(ẇ=0), so that M̃ ẇ_ind = f̃.")
-    active_forces = closed_form("F_r", "F̃_r: the nonholonomic generalized active forces (equilibrium iff 0).")
-    qdot = closed_form("qdot", "The kinematic differential equations q̇ = Γ w_ind + Θ.")
-    dependent_speeds = closed_form("dependent_speeds", "w_dep = A w_ind + B.")
+    @property
+    def speeds_are_qdot(self) -> bool:
+        """True when w = q̇ (no kinematic equations): the speeds are the symbols of system.u."""
+        return self.speeds == list(self.system.u)
+
+    @property
+    def mass_matrix(self) -> sp.Matrix:
+        """M̃ = Pᵀ M P (p × p), closed form (pivots proven nonzero, else ModelError)."""
+        return self._solution()["mass_matrix"]
+
+    @property
+    def forcing(self) -> sp.Matrix:
+        """f̃ = Pᵀ (h − M q̈₀), so that M̃ ẇ_ind = f̃; closed form."""
+        return self._solution()["forcing"]
+
+    @property
+    def active_forces(self) -> sp.Matrix:
+        """F̃_r = Pᵀ (τ_loads − g): the nonholonomic generalized active forces (equilibrium iff 0)."""
+        return self._solution()["F_r"]
+
+    @property
+    def qdot(self) -> sp.Matrix:
+        """The kinematic differential equations q̇ = −Y⁻¹ (K w + k0) in q and w_ind; closed form."""
+        return self._solution()["qdot"]
+
+    @property
+    def dependent_speeds(self) -> sp.Matrix:
+        """w_dep = −C_dep⁻¹ (C_ind w_ind + c0); closed form."""
+        return self._speeds_closed()[0]
 
     def inertia_forces(self) -> sp.Matrix:
         """F̃*_r = −M̃ ẇ_ind + (f̃ − F̃_r), in the symbols of ẇ_ind (w + 'dot')."""
         wdot = sp.Matrix([sp.Symbol(f"{w.name}dot") for w in self.independent])
         return -self.mass_matrix * wdot + self.forcing - self.active_forces
 
+    # --- closed forms ---------------------------------------------------------------------------
+    def _blocks(self) -> dict[str, sp.Matrix]:
+        """Y, K, k0, r_kin, C_dep, C_ind, c0, r_con, M, h, Q in closed form (q, q̇, w)."""
+        if "blocks" not in self._closed:
+            n, m = len(self.speeds), len(self.dependent)
+            Yk, Cc, rates = (self.subexpressions.inline(self.compact[k]) for k in ("Y", "C", "rates"))
+            C = Cc[:, :n]
+            dep, ind = self._indices()
+            hQ = self.subexpressions.inline(self.compact["h"])
+            self._closed["blocks"] = {
+                "Y": Yk[:, :n], "K": Yk[:, n:2 * n], "k0": Yk[:, 2 * n], "r_kin": rates[:n, 0],
+                "C_dep": C[:, dep], "C_ind": C[:, ind], "c0": Cc[:, n], "r_con": rates[n:n + m, 0],
+                "M": self.subexpressions.inline(self.compact["M"]), "h": hQ[:, 0], "Q": hQ[:, 1]}
+        return self._closed["blocks"]
+
+    def _indices(self) -> tuple[list[int], list[int]]:
+        return [self.speeds.index(s) for s in self.dependent], [self.speeds.index(s) for s in self.independent]
+
+    def _speeds_closed(self) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+        """(w_dep, T = ∂w/∂w_ind, −C_dep⁻¹ r_con) with w_dep = −C_dep⁻¹ (C_ind w_ind + c0)."""
+        if "speeds" not in self._closed:
+            B = self._blocks()
+            n, p, m = len(self.speeds), len(self.independent), len(self.dependent)
+            X = solve_proven(B["C_dep"], -B["C_ind"].row_join(B["c0"]).row_join(B["r_con"]),
+                             "the constraints' matrix of the dependent speeds C_dep")
+            A = X[:, :p]
+            w_dep = A * sp.Matrix(self.independent) + X[:, p] if m else sp.zeros(0, 1)
+            dep, ind = self._indices()
+            T = sp.zeros(n, p)
+            for r, i in enumerate(ind):
+                T[i, r] = 1
+            for r, i in enumerate(dep):
+                T[i, :] = A[r, :]
+            self._closed["speeds"] = (w_dep, T, X[:, p + 1] if m else sp.zeros(0, 1))
+        return self._closed["speeds"]
+
+    def _solution(self) -> dict[str, sp.Matrix]:
+        """The closed forms of q̇, M̃, f̃ and F̃_r in q and w_ind (see the module's formulas)."""
+        if "solution" not in self._closed:
+            B = self._blocks()
+            w_dep, T, wd_dep = self._speeds_closed()
+            n, p = len(self.speeds), len(self.independent)
+            X = solve_proven(B["Y"], -B["K"].row_join(B["k0"]).row_join(B["r_kin"]),
+                             "the speed map Y = ∂(kinematic equations)/∂q̇")
+            W = X[:, :n]  # q̇ = W w + X_k0,  q̈₀ = W ẇ₀ + X_r
+            on_w = dict(zip(self.dependent, w_dep))
+            w = sp.Matrix(self.speeds).xreplace(on_w)
+            qdot = W * w + X[:, n]
+            state = {**dict(zip(self.system.u, qdot)), **on_w}
+            wd0 = sp.zeros(n, 1)
+            for r, i in enumerate(self._indices()[0]):
+                wd0[i] = wd_dep[r]
+            qdd0 = (W * wd0 + X[:, n + 1]).xreplace(state)
+            P = W * T
+            M = B["M"]
+            self._closed["solution"] = {
+                "qdot": qdot, "mass_matrix": P.T * M * P,
+                "forcing": P.T * (B["h"].xreplace(state) - M * qdd0), "F_r": P.T * B["Q"].xreplace(state)}
+        return self._closed["solution"]
+
+
+def solve_proven(A: sp.Matrix, B: sp.Matrix, what: str) -> sp.Matrix:
+    """X with A X = B by Gauss-Jordan elimination, pivoting only on entries proven nonzero
+    (`is_zero is False`: numbers, positive symbols, ...); ModelError naming `what` otherwise."""
+    A, B = A.as_mutable(), B.as_mutable()
+    n = A.rows
+    for j in range(n):
+        pivot = next((i for i in range(j, n) if A[i, j].is_zero is False), None)
+        if pivot is None:
+            raise ModelError(f"kane: no closed form: {what}: no pivot in column {j} can be proven nonzero "
+                             f"(candidates {list(A[j:, j])}); {NUMERIC}")
+        A.row_swap(j, pivot)
+        B.row_swap(j, pivot)
+        for i in range(n):
+            if i != j and A[i, j] != 0:
+                factor = A[i, j] / A[j, j]
+                A[i, :] = A[i, :] - factor * A[j, :]
+                B[i, :] = B[i, :] - factor * B[j, :]
+                A[i, j] = 0
+    return sp.Matrix(n, B.cols, lambda i, k: B[i, k] / A[i, i])
 
 
 def _linear(exprs, symbols, what: str) -> tuple[sp.Matrix, sp.Matrix]:
-    """(C, c0) with exprs = C symbols + c0; an error names an expression that is not linear."""
+    """(C, c0) with exprs = C symbols + c0: linear iff no entry of ∂exprs/∂symbols has a symbol left."""
     exprs = sp.Matrix(exprs)
     C = exprs.jacobian(list(symbols))
-    for i, e in enumerate(exprs):
-        if any(sp.simplify(C[i, j].diff(s)) != 0 for j in range(len(symbols)) for s in symbols):
-            raise ModelError(f"{what} {i} is not linear in {list(symbols)}: {e}")
+    for i in range(exprs.rows):
+        left = set().union(*(C[i, j].free_symbols for j in range(C.cols))) & set(symbols)
+        if left:
+            raise ModelError(f"kane: {what} {i} is not linear in {list(symbols)} (∂/∂ still has {sorted(left, key=str)}): "
+                             f"{exprs[i]}")
     return C, exprs.xreplace({s: 0 for s in symbols})
 
 
-def _invertible(C: sp.Matrix, what: str) -> None:
-    if C.shape[0] != C.shape[1] or sp.simplify(C.det()) == 0:
-        raise ModelError(f"{what} is not invertible: {C.tolist()}")
+def _check_invertible(sub, matrices: dict[str, sp.Matrix], q: list, params: list) -> None:
+    """cond(A) at SAMPLES random states (q uniform in [−π, π], parameters in [0.5, 1.5]) for each named
+    square matrix A in q; ModelError if it is singular (cond > COND_LIMIT or not finite) at all of them."""
+    call = runtime_namespace()["_call"]
+    writer = FunctionWriter(sub, {"q": q, "u": [], "ud": [], "p": params})
+    rng = np.random.default_rng(0)
+    qs = rng.uniform(-np.pi, np.pi, (SAMPLES, len(q)))
+    p = rng.uniform(0.5, 1.5, len(params))
+    for what, A in matrices.items():
+        if A.rows == 0:
+            continue
+        source, shape, _ = writer.source("f", A)
+        with np.errstate(all="ignore"):
+            values = call(compile_function(source, what), shape, len(q), 0, qs, None, None, p)
+            conds = [np.linalg.cond(a) if np.all(np.isfinite(a)) else np.inf for a in values]
+        if min(conds) > COND_LIMIT:
+            raise ModelError(f"kane: {what} is not invertible: singular at all {SAMPLES} random states "
+                             f"(smallest cond {min(conds):.1e})")
 
 
 def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=None,
@@ -73,23 +211,25 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     `nonholonomic` (expressions in q and w = 0, linear in w) and the `independent` speeds."""
     if any(isinstance(j, FreeFlyer) for j in system.joints):
         raise ModelError("kane: a free-flyer base is not supported; give the base its own joints")
-    qd = list(system.u)  # q̇ of the joints
+    if any(isinstance(j, FlexibleLink) for j in system.joints):
+        raise ModelError("kane: flexible links are not supported")
+    q, qd = list(system.q), list(system.u)
+    n = len(qd)
     speeds = qd if speeds is None else list(speeds)
-    if len(speeds) != len(qd) or len(set(speeds)) != len(speeds):
-        raise ModelError(f"kane: give {len(qd)} distinct speeds, got {speeds}")
+    if len(speeds) != n or len(set(speeds)) != n:
+        raise ModelError(f"kane: give {n} distinct speeds, got {speeds}")
     if kinematic_equations is None:
         if speeds != qd:
-            raise ModelError("kane: new speeds need kinematic_equations (w − Y q̇ − Z = 0)")
-        kinematic_equations = []
-    # q̇ = W w + X from the kinematic equations
-    if kinematic_equations:
-        if len(kinematic_equations) != len(qd):
-            raise ModelError(f"kane: {len(qd)} kinematic equations needed, got {len(kinematic_equations)}")
-        Y, rest = _linear(kinematic_equations, qd, "kinematic equation")
-        _invertible(Y, "the speed map (∂ kinematic equations / ∂q̇)")
-        qdot_w = Y.LUsolve(-rest)  # small and linear: q̇ in terms of q and w
+            raise ModelError("kane: new speeds need kinematic_equations (Y q̇ + K w + k0 = 0)")
+        kinematic_equations = [w - x for w, x in zip(speeds, qd)]  # w = q̇: the same symbols
+        Y, K, k0 = sp.eye(n), -sp.eye(n), sp.zeros(n, 1)
     else:
-        qdot_w = sp.Matrix(speeds)
+        if len(kinematic_equations) != n:
+            raise ModelError(f"kane: {n} kinematic equations needed, got {len(kinematic_equations)}")
+        if set(speeds) & set(qd):
+            raise ModelError(f"kane: speeds with kinematic_equations must be new symbols, not q̇ {qd}")
+        YK, k0 = _linear(kinematic_equations, qd + speeds, "kinematic equation")
+        Y, K = YK[:, :n], YK[:, n:]
     nonholonomic = list(nonholonomic or [])
     independent = speeds if independent is None else list(independent)
     unknown = [s for s in independent if s not in speeds]
@@ -98,62 +238,28 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     dependent = [s for s in speeds if s not in independent]
     if len(dependent) != len(nonholonomic):
         raise ModelError(f"kane: {len(nonholonomic)} constraints need as many dependent speeds, got {dependent}")
-    if nonholonomic:
-        C, c0 = _linear(nonholonomic, speeds, "nonholonomic constraint")
-        C_dep = C[:, [speeds.index(s) for s in dependent]]
-        C_ind = C[:, [speeds.index(s) for s in independent]]
-        _invertible(C_dep, "the constraints' matrix of the dependent speeds")
-        w_dep = C_dep.LUsolve(-(C_ind * sp.Matrix(independent) + c0))  # w_dep = A w_ind + B
-        qdot_w = qdot_w.xreplace(dict(zip(dependent, w_dep)))
-    else:
-        w_dep = sp.zeros(0, 1)
+    C, c0 = _linear(nonholonomic, speeds, "nonholonomic constraint") if nonholonomic else (
+        sp.zeros(0, n), sp.zeros(0, 1))
+    for i, e in enumerate(nonholonomic):
+        stray = sp.sympify(e).free_symbols & (set(qd) - set(speeds))
+        if stray:
+            raise ModelError(f"kane: nonholonomic constraint {i} depends on q̇ {sorted(stray, key=str)}: "
+                             "write it in q and the speeds")
 
+    given = [*kinematic_equations, *nonholonomic]
+    parameters = (system.parameters | set().union(*(sp.sympify(e).free_symbols for e in given))) - set(
+        q + qd + speeds)
     kin = Kinematics(system)
     sub = kin.sub
-    qdot_w = sub.add_matrix(qdot_w)
-    p = len(independent)
-    seeds = dict(zip(kin.q, qdot_w))  # d/dt with ẇ = 0
-
-    def partials(v: sp.Matrix) -> list[sp.Matrix]:
-        return [v.applyfunc(lambda e: sub.add(sub.derivative(e, {w: 1}, ("w", r)))) for r, w in enumerate(independent)]
-
-    def bias(v: sp.Matrix) -> sp.Matrix:
-        return v.applyfunc(lambda e: sub.add(sub.derivative(e, seeds, "kane_t")))
-
-    M, f = sp.zeros(p, p), sp.zeros(p, 1)
-    F_r = sp.zeros(p, 1)
-    for body in system.bodies:
-        if not kin.chain[body]:
-            continue
-        S = Point(body, body.com)
-        v = sub.add_matrix(matmul(kin.J_P(S), qdot_w))
-        w = sub.add_matrix(matmul(kin.J_R(body), qdot_w))
-        vt, wt = partials(v), partials(w)
-        Theta = kin.inertia_world(body)
-        a0, alpha0 = bias(v), bias(w)
-        gyro = matmul(Theta, alpha0) + cross(w, sub.add_matrix(matmul(Theta, w)))
-        for r in range(p):
-            gravity = dot(vt[r], scale(body.mass, system.gravity))
-            F_r[r] += gravity
-            f[r] += gravity - dot(vt[r], scale(body.mass, a0)) - dot(wt[r], gyro)
-            for s in range(p):
-                M[r, s] += body.mass * dot(vt[r], vt[s]) + dot(wt[r], matmul(Theta, wt[s]))
-    for b in system.bodies:  # rotor inertia at the joints: ½ I_a q̇_i²
-        if b.index is not None and b.joint.armature != 0:
-            qdi = sp.Matrix([qdot_w[b.index]])
-            part = partials(qdi)
-            for r in range(p):
-                f[r] -= b.joint.armature * part[r][0] * bias(qdi)[0]
-                for s in range(p):
-                    M[r, s] += b.joint.armature * part[r][0] * part[s][0]
-    qd_sub = dict(zip(qd, qdot_w))
-    for load in system.loads:
-        for point, F, T in applied_wrenches(kin, load):
-            F, T = (sub.substitute(x, qd_sub) for x in (F, T))  # a damper's force depends on q̇
-            vt = partials(sub.add_matrix(matmul(kin.J_P(point), qdot_w)))
-            wt = partials(sub.add_matrix(matmul(kin.J_R(point.body), qdot_w)))
-            for r in range(p):
-                F_r[r] += dot(vt[r], F) + dot(wt[r], T)
-                f[r] += dot(vt[r], F) + dot(wt[r], T)
-    compact = {"mass_matrix": M, "forcing": f, "F_r": F_r, "qdot": qdot_w, "dependent_speeds": w_dep}
-    return KaneEquations(system, kin, speeds, independent, dependent, compact)
+    eom = projected_newton_euler.derive(kin)
+    Cd = sub.add_matrix(C[:, [speeds.index(s) for s in dependent]])
+    Yn = sub.add_matrix(Y)
+    _check_invertible(sub, {"the constraints' matrix of the dependent speeds C_dep": Cd,
+                            "the speed map (∂ kinematic equations / ∂q̇) Y": Yn}, q, sorted(parameters, key=str))
+    rates = kin.time_derivative(sp.Matrix([*kinematic_equations, *nonholonomic]))  # ∂/∂q · q̇ (q̈, ẇ = 0)
+    gravity = -eom.compact["g"]
+    compact = {"M": eom.compact["M"],
+               "h": (eom.tau_compact - eom.compact["b"] + gravity).row_join(eom.tau_compact + gravity),
+               "Y": Yn.row_join(sub.add_matrix(K)).row_join(sub.add_matrix(k0)),
+               "C": sub.add_matrix(C).row_join(sub.add_matrix(c0)), "rates": rates}
+    return KaneEquations(system, kin, speeds, independent, dependent, compact, parameters, eom)

@@ -1,0 +1,135 @@
+"""Numeric Kane's equations: the symbolic pieces of `KaneEquations.compact` as generated functions of
+(q, q̇, w), and every linear solve in NumPy with pivoting (np.linalg.solve, batched over states):
+
+    w_dep = −C_dep⁻¹ (C_ind w_ind + c0),  T = [I; −C_dep⁻¹ C_ind],  q̇ = −Y⁻¹ (K w + k0),  P = −Y⁻¹ K T,
+    ẇ_dep,0 = −C_dep⁻¹ ċ,  q̈₀ = −Y⁻¹ (K ẇ₀ + ẏ),  M̃ = Pᵀ M P,  f̃ = Pᵀ (h − M q̈₀),  F̃_r = Pᵀ Q
+
+(ċ, ẏ: the "rates", d/dt of the constraints and kinematic equations at ẇ = 0, q̈ = 0)."""
+from __future__ import annotations
+
+import numpy as np
+
+from . import Generated, NumericEoM
+from .c_backend import CompiledEoM, extension_functions
+from .extension import compiler, python_headers
+from .numpy_backend import C_TRIG, PYTHON, FunctionWriter, compile_function
+from .runtime import runtime_namespace
+
+_call = runtime_namespace()["_call"]
+
+
+class NumericKane:
+    """Numeric Kane's equations in the independent speeds w (here: w_ind): mass_matrix(q, w), forcing(q, w),
+    qdot(q, w), dependent_speeds(q, w), active_forces(q, w), and `rhs(t, x)` for x = [q, w] (solve_ivp).
+    One state (q of shape (nq,)) or N states (N, nq); parameters by name in `params`."""
+
+    syntax = PYTHON
+
+    def __init__(self, kane) -> None:
+        self.kane = kane
+        self.n = len(kane.speeds)
+        self.nq, self.nv = self.n, len(kane.independent)
+        self.params = sorted(kane.parameters, key=str)
+        self._dep, self._ind = kane._indices()
+        w_inputs = [] if kane.speeds_are_qdot else list(kane.speeds)  # else w is q̇ itself
+        writer = FunctionWriter(kane.subexpressions, {"q": list(kane.system.q), "u": list(kane.system.u),
+                                                      "ud": w_inputs, "p": self.params}, self.syntax)
+        keys = [k for k in ("M", "h", "Y", "C", "rates") if k != "C" or kane.dependent]
+        written = []
+        for i, key in enumerate(keys):
+            source, shape, ops = writer.source(f"e{i}", kane.compact[key], symmetric=key == "M")
+            written.append((key, source, shape, ops, writer.trig_indices))
+        self.functions: dict[str, Generated] = self._compile(written)
+
+    def _compile(self, written: list) -> dict[str, Generated]:
+        return {key: Generated(source, shape, ops, compile_function(source, key, f"e{i}"))
+                for i, (key, source, shape, ops, _) in enumerate(written)}
+
+    _p = NumericEoM._p
+
+    def _eval(self, key: str, q, qd=None, w=None, params=None) -> np.ndarray:
+        """Generated function `key` at (q, q̇, w): shape batch + (rows, cols)."""
+        f = self.functions[key]
+        return _call(f.function, f.shape, self.n, self.n, q, qd, w, self._p(params, key))
+
+    def _w(self, w) -> np.ndarray | None:
+        return None if self.kane.speeds_are_qdot else w
+
+    def _speeds(self, q, w_ind, params) -> tuple:
+        """(w, q̇, P = ∂q̇/∂w_ind, C_dep, Y, K) at q and w_ind."""
+        q, w_ind = np.asarray(q, dtype=float), np.asarray(w_ind, dtype=float)
+        batch, n, p = q.shape[:-1], self.n, self.nv
+        if w_ind.shape != batch + (p,):
+            raise ValueError(f"w: expected shape {batch + (p,)} (the independent speeds), got {w_ind.shape}")
+        w, T = np.zeros(batch + (n,)), np.zeros(batch + (n, p))
+        w[..., self._ind] = w_ind
+        T[..., self._ind, np.arange(p)] = 1.0
+        C_dep = None
+        if self._dep:
+            Cc = self._eval("C", q, params=params)
+            C_dep, C_ind = Cc[..., self._dep], Cc[..., self._ind]
+            X = np.linalg.solve(C_dep, np.concatenate([C_ind, C_ind @ w_ind[..., None] + Cc[..., n:]], -1))
+            T[..., self._dep, :], w[..., self._dep] = -X[..., :p], -X[..., p]
+        Yk = self._eval("Y", q, params=params)
+        Y, K = Yk[..., :n], Yk[..., n:2 * n]
+        X = np.linalg.solve(Y, np.concatenate([K @ T, K @ w[..., None] + Yk[..., 2 * n:]], -1))
+        return w, -X[..., p], -X[..., :p], C_dep, Y, K
+
+    def mass_matrix(self, q, w, params=None) -> np.ndarray:
+        """M̃ = Pᵀ M P."""
+        P = self._speeds(q, w, params)[2]
+        return np.swapaxes(P, -1, -2) @ self._eval("M", q, params=params) @ P
+
+    def forcing(self, q, w, params=None) -> np.ndarray:
+        """f̃ = Pᵀ (h − M q̈₀)."""
+        return self._dynamics(q, w, params)[2]
+
+    def qdot(self, q, w, params=None) -> np.ndarray:
+        """q̇ = −Y⁻¹ (K w + k0)."""
+        return self._speeds(q, w, params)[1]
+
+    def dependent_speeds(self, q, w, params=None) -> np.ndarray:
+        """w_dep = −C_dep⁻¹ (C_ind w_ind + c0)."""
+        return self._speeds(q, w, params)[0][..., self._dep]
+
+    def active_forces(self, q, w, params=None) -> np.ndarray:
+        """F̃_r = Pᵀ Q (Q = τ_loads − g, the generalized active forces in q̇)."""
+        _, qd, P, *_ = self._speeds(q, w, params)
+        return (np.swapaxes(P, -1, -2) @ self._eval("h", q, qd, params=params)[..., 1:])[..., 0]
+
+    def _dynamics(self, q, w_ind, params) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(q̇, M̃, f̃) at q and w_ind."""
+        w, qd, P, C_dep, Y, K = self._speeds(q, w_ind, params)
+        rates = self._eval("rates", q, qd, self._w(w), params)
+        wd0 = np.zeros(w.shape + (1,))
+        if self._dep:
+            wd0[..., self._dep, :] = -np.linalg.solve(C_dep, rates[..., self.n:, :])
+        qdd0 = -np.linalg.solve(Y, K @ wd0 + rates[..., :self.n, :])
+        M = self._eval("M", q, params=params)
+        Pt = np.swapaxes(P, -1, -2)
+        h = self._eval("h", q, qd, params=params)[..., :1]
+        return qd, Pt @ M @ P, (Pt @ (h - M @ qdd0))[..., 0]
+
+    def rhs(self, t, x, params=None) -> np.ndarray:
+        """d/dt [q, w_ind] = [q̇, M̃⁻¹ f̃]."""
+        q, w = x[..., :self.nq], x[..., self.nq:]
+        qd, M, f = self._dynamics(q, w, params)
+        return np.concatenate([qd, np.linalg.solve(M, f[..., None])[..., 0]], -1)
+
+
+class CompiledKane(NumericKane):
+    """`NumericKane` with the symbolic pieces compiled from C (per call and batched); solves in NumPy."""
+
+    syntax = C_TRIG
+
+    def __init__(self, kane) -> None:
+        compiler(), python_headers()  # a clear error before any work
+        super().__init__(kane)
+
+    def _compile(self, written: list) -> dict[str, Generated]:
+        return extension_functions(written, self.n, self.n, len(self.params))
+
+    _pvec = CompiledEoM._pvec
+
+    def _eval(self, key, q, qd=None, w=None, params=None) -> np.ndarray:
+        return self.functions[key].function(q, qd, w, self._pvec(params, key))
