@@ -74,7 +74,8 @@ def main() -> None:
     ap.add_argument("--out", default=results_io.default_path("kane"))
     args = ap.parse_args()
     rng = np.random.default_rng(0)
-    rows = [rolling_disk(), bicycle()] + [chain(n, derive_chain.random_state(n, rng)) for n in range(1, args.max_n + 1)]
+    rows = [rolling_disk(), bicycle()]
+    rows += [chain(n, derive_chain.random_state(n, rng)) for n in range(1, args.max_n + 1)]
     print(f"{'system':24s} {'eomgen [s]':>11s} {'KanesMethod [s]':>16s} {'ratio':>7s} {'max diff':>9s}")
     for r in rows:
         print(f"{r['system']:24s} {r['eomgen_s']:11.3f} {r['KanesMethod_s']:16.3f} "

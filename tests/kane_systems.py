@@ -112,7 +112,8 @@ def constrained_skate_sympy(constraints, force_at=None):
     q = [x1, x2, x3]
     u = me.dynamicsymbols("v_1 v_2 v_3")
     km = me.KanesMethod(N, q_ind=q, u_ind=[u[2]], u_dependent=u[:2],
-                        kd_eqs=[qi.diff() - ui for qi, ui in zip(q, u)], velocity_constraints=constraints(q, u))
+                        kd_eqs=[qi.diff() - ui for qi, ui in zip(q, u)],
+                        velocity_constraints=constraints(q, u))
     km.kanes_equations([body], loads)
     return km, q, [u[2]]
 
@@ -132,8 +133,8 @@ def bicycle():
     Returns (system, kane arguments, front contact height(q) as an expression)."""
     R, wb, c, lam = BIKE["R"], BIKE["wheelbase"], BIKE["trail"], BIKE["tilt"]
     system = eg.System(gravity=(0, 0, -g_b))
-    base = system.add_body("rail_y", parent=system.add_body("rail_x", joint=eg.Prismatic("x", axis=(1, 0, 0))),
-                           joint=eg.Prismatic("y", axis=(0, 1, 0)))
+    rail = system.add_body("rail_x", joint=eg.Prismatic("x", axis=(1, 0, 0)))
+    base = system.add_body("rail_y", parent=rail, joint=eg.Prismatic("y", axis=(0, 1, 0)))
     yaw = system.add_body("yaw", parent=base, joint=eg.Revolute("psi", axis=(0, 0, 1)))
     roll = system.add_body("roll", parent=yaw, joint=eg.Revolute("phi", axis=(1, 0, 0)))
     frame = system.add_body("frame", parent=roll, joint=eg.Revolute("theta", axis=(0, 1, 0)), mass=m_b,
@@ -142,7 +143,8 @@ def bicycle():
     rear = system.add_body("rear_wheel", parent=frame, joint=eg.Revolute("theta_r", axis=(0, 1, 0)), mass=2,
                            inertia=sp.diag(0.0603, 0.12, 0.0603))
     steer_at = wb + c - R * sp.tan(lam)  # on the steer axis, at the height of the front axle
-    fork = system.add_body("fork", parent=frame, joint=eg.Revolute("delta", axis=(-sp.sin(lam), 0, sp.cos(lam))),
+    steer = eg.Revolute("delta", axis=(-sp.sin(lam), 0, sp.cos(lam)))
+    fork = system.add_body("fork", parent=frame, joint=steer,
                            mass=4, com=(0.02, 0, 0.5), inertia=sp.diag(0.05, 0.06, 0.02),
                            placement=eg.Placement(translation=(steer_at, 0, 0)))
     front = system.add_body("front_wheel", parent=fork, joint=eg.Revolute("theta_f", axis=(0, 1, 0)), mass=3,

@@ -108,7 +108,8 @@ def test_write_c_and_module(tmp_path):
                     for k in range(len(frames)))
     main = tmp_path / "main.c"
     main.write_text('#include <stdio.h>\n#include <stdlib.h>\n#include "fn.h"\n'
-                    'int main(int argc, char **argv) { double q[1] = {atof(argv[1])}, u[1] = {0}, ud[1] = {0},'
+                    'int main(int argc, char **argv) {'
+                    ' double q[1] = {atof(argv[1])}, u[1] = {0}, ud[1] = {0},'
                     ' p[1] = {atof(argv[2])}, J[6];'
                     f" {calls} return 0; }}\n")
     subprocess.run(["cc", str(main), str(c_path), "-o", str(tmp_path / "main"), "-lm"], check=True)

@@ -15,7 +15,8 @@ CASES = {"skate": (K.skate, K.skate_sympy, dict(force_at=K.l)),
          "particle": (K.particle, K.particle_sympy, {}),
          "rolling_disk": (K.rolling_disk, K.rolling_disk_sympy, dict(torques=True)),
          "pythagoras": (lambda **kw: K.constrained_skate(K.pythagoras, **kw),
-                        lambda **kw: K.constrained_skate_sympy(K.pythagoras_sympy_form, **kw), dict(force_at=K.l)),
+                        lambda **kw: K.constrained_skate_sympy(K.pythagoras_sympy_form, **kw),
+                        dict(force_at=K.l)),
          "rotation": (lambda **kw: K.constrained_skate(K.rotation, **kw),
                       lambda **kw: K.constrained_skate_sympy(K.rotation, **kw), dict(force_at=K.l))}
 P = {"m": 1.3, "I_x": 0.05, "I_y": 0.05, "I_z": 0.1, "a": 0.4, "l": 0.7, "R": 0.3, "g": 9.81, "F": 0.6,
@@ -71,15 +72,16 @@ def test_closed_forms_equal_generated_code(case):
     values = {**{s: P[s.name] for s in k.parameters}, **dict(zip(system.q, q)), **dict(zip(k.independent, w))}
     for key in ("mass_matrix", "forcing", "qdot", "dependent_speeds", "active_forces"):
         closed = np.array(getattr(k, key).xreplace(values).evalf(30).tolist(), dtype=float)
-        np.testing.assert_allclose(getattr(f, key)(q, w, given(f)), closed.reshape(getattr(f, key)(q, w, given(f)).shape),
-                                   rtol=1e-12, atol=1e-12)
+        ours = getattr(f, key)(q, w, given(f))
+        np.testing.assert_allclose(ours, closed.reshape(ours.shape), rtol=1e-12, atol=1e-12)
 
 
 def test_no_closed_form_without_provable_pivot():
     """w = Wᵀ q̇ with W a rotation: Y's pivots cos x3, sin x3 are not provably nonzero."""
     system, args = K.skate(solved=False)
     k = eg.kane(system, **args)
-    with pytest.raises(eg.ModelError, match=r"speed map .* no pivot in column 0 can be proven nonzero.*eg.codegen"):
+    with pytest.raises(eg.ModelError,
+                       match=r"speed map .* no pivot in column 0 can be proven nonzero.*eg.codegen"):
         k.mass_matrix
     assert k.dependent_speeds == sp.Matrix([0])  # C_dep = [1]: still closed
 
@@ -106,7 +108,8 @@ def test_rotation_block_finite_at_zero():
         w = np.full((len(x3), 1), 1.3)
         expected = P["b"] * 1.3 * np.c_[np.cos(x3), -np.sin(x3)]
         np.testing.assert_allclose(f.dependent_speeds(q, w, given(f)), expected, rtol=1e-14, atol=1e-14)
-        np.testing.assert_allclose(f.dependent_speeds(q[0], w[0], given(f)), expected[0], rtol=1e-14, atol=1e-14)
+        np.testing.assert_allclose(f.dependent_speeds(q[0], w[0], given(f)), expected[0],
+                                   rtol=1e-14, atol=1e-14)
         x = np.c_[q, w]
         assert np.all(np.isfinite(f.rhs(0, x, given(f)))) and np.all(np.isfinite(f.rhs(0, x[0], given(f))))
         np.testing.assert_allclose(f.rhs(0, x, given(f))[3], f.rhs(0, x[3], given(f)), rtol=1e-13)
@@ -123,7 +126,8 @@ def test_parameter_only_in_a_constraint():
     with pytest.raises(eg.ModelError, match=r"values missing for the parameters \['b'\]"):
         f.dependent_speeds(q, w, {k: v for k, v in given(f).items() if k != "b"})
     one, two = (f.rhs(0, np.r_[q, w], {**given(f), "b": b}) for b in (0.8, 1.6))
-    np.testing.assert_allclose(f.dependent_speeds(q, w, {**given(f), "b": 1.6}), 2 * f.dependent_speeds(q, w, given(f)))
+    np.testing.assert_allclose(f.dependent_speeds(q, w, {**given(f), "b": 1.6}),
+                               2 * f.dependent_speeds(q, w, given(f)))
     assert not np.allclose(one, two)
 
 
@@ -175,7 +179,8 @@ def test_skate_equilibrium():
     for at, expected in ((0, [0, 0]), (K.l, [0, P["F"] * P["l"]])):
         system, args = K.skate(force_at=at, solved=False)
         f = eg.codegen(eg.kane(system, **args))
-        np.testing.assert_allclose(f.active_forces(x[:, :3], x[:, 3:], given(f)), np.tile(expected, (6, 1)), atol=1e-14)
+        np.testing.assert_allclose(f.active_forces(x[:, :3], x[:, 3:], given(f)), np.tile(expected, (6, 1)),
+                                   atol=1e-14)
 
 
 @pytest.mark.parametrize("case,backend", [("skate", "numpy"), ("rolling_disk", "numpy"), ("rolling_disk", "c")])

@@ -2,8 +2,8 @@
 
 Symbolic mechanics gets slow when every entry of M is one huge expression tree. Instead each
 intermediate quantity (an entry of a body's rotation, a Jacobian column, ...) is a plain Symbol
-x_k (eomgen's own, see `symbols`) with a definition e_k(q, u, parameters, x_<k). Derivatives follow the chain rule through the
-definitions,
+x_k (eomgen's own, see `symbols`) with a definition e_k(q, u, parameters, x_<k). Derivatives follow
+the chain rule through the definitions,
 
     d f / d s  =  Σ_y  ∂f/∂y · d y / d s,     d x_k / d s = d e_k / d s   (a new intermediate),
 
@@ -136,6 +136,14 @@ class Subexpressions:
             return r
 
         return d(expr)
+
+    def evaluate(self, exprs, values: Mapping[sp.Symbol, float]) -> list[complex]:
+        """The numbers of `exprs` at `values` of the independent symbols, through the intermediates
+        (a few sample states: checks, not code)."""
+        known = {s: sp.Float(v) for s, v in values.items()}
+        for s in self.dependencies(exprs):
+            known[s] = self.definitions[s].xreplace(known).evalf()
+        return [complex(sp.sympify(e).xreplace(known).evalf()) for e in exprs]
 
     def substitute(self, expr, mapping: Mapping[sp.Symbol, sp.Expr]):
         """expr with independent symbols replaced (q̇ → q̇(w), say), through the intermediates: every

@@ -69,8 +69,8 @@ def tradeoff(system: System, states: int = 200, seed: int = 0, mass_fraction: fl
         args = [np.ascontiguousarray(x.T, dtype=dtype) for x in (q_, u_, np.zeros_like(u_))]
         p = [float(x) for x in f._p(None, "M")]
         t0 = time.perf_counter()
-        outs = [g.function(*args, p, np.zeros(g.shape + q_.shape[:1], dtype=dtype), np.sin, np.cos, np.sqrt, np)
-                for g in fns]
+        outs = [g.function(*args, p, np.zeros(g.shape + q_.shape[:1], dtype=dtype),
+                           np.sin, np.cos, np.sqrt, np) for g in fns]
         seconds = time.perf_counter() - t0
         return [np.moveaxis(o, (0, 1), (-2, -1)).astype(float) for o in outs], seconds / len(q_) * 1e6
 

@@ -75,8 +75,8 @@ def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title
         f._function(f"J:{k}", lambda frame=frame: eom.kinematics.jacobian(frame))
         f._function(f"Jdot_u:{k}", lambda frame=frame: eom.kinematics.jacobian_dot_u(frame))
     parts = [f'"""Equations of motion M(q) u̇ + b(q, u) + g(q) = τ(q, u) + Sᵀ τ_a of {title!r}, generated '
-             f'by eomgen {__version__} ({eom.method}).\n\nNeeds only numpy. q has shape (NQ,) or (N, NQ), u (NV,) '
-             "or (N, NV).\nParameters: params={name: value} (or a sequence in the order of PARAMETERS); a "
+             f'by eomgen {__version__} ({eom.method}).\n\nNeeds only numpy. q has shape (NQ,) or (N, NQ), '
+             "u (NV,) or (N, NV).\nParameters: params={name: value} (or a sequence in the order of PARAMETERS); a "
              "function\nasks only for those it uses.\n\"\"\"",
              "import math\nfrom collections.abc import Mapping\n\nimport numpy\n",
              f"NQ = {f.nq}",
@@ -85,7 +85,7 @@ def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title
              f"SPEEDS = {tuple(str(x) for x in eom.u)!r}",
              f"PARAMETERS = {f.parameters.names!r}",
              f"FRAMES = {tuple(frames)!r}",
-             f"ACTUATED = {tuple(j.name for j in eom.system.joints if j.actuated)!r}  # τ_a: one per row of S",
+             f"ACTUATED = {tuple(j.name for j in eom.system.joints if j.actuated)!r}  # τ_a, a row of S each",
              f"S = numpy.array({f.S.tolist()!r}).reshape(len(ACTUATED), NV)  # selection matrix",
              _HELPERS, RUNTIME, PARAMETER_RUNTIME]
     parts += [f.functions[key].source.replace("def f(", f"def _{key}(", 1) for key in keys]

@@ -24,13 +24,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from ..codegen.numpy_backend import FunctionWriter, compile_function
-from ..codegen.runtime import runtime_namespace
 from ..eom import ClosedForms, EquationsOfMotion
 from ..errors import ModelError
 from ..kinematics import Kinematics
 from ..model import FlexibleLink, FreeFlyer
 from ..model.system import System
+from ..symbols import Generated
 from . import projected_newton_euler
 
 SAMPLES = 5  # random states for the invertibility checks
@@ -51,7 +50,7 @@ class KaneEquations(ClosedForms):
     independent: list  # w_ind (p of them)
     dependent: list  # w_dep (m = n − p)
     compact: dict = field(default_factory=dict)
-    parameters: set = field(default_factory=set)  # the system's, the constraints' and the kinematic equations'
+    parameters: set = field(default_factory=set)  # the system's, constraints' and kinematic equations'
     eom: EquationsOfMotion | None = None  # the equations in q̇ (M, b, g, τ, T, U)
     _closed: dict = field(default_factory=dict, repr=False)
 
@@ -87,7 +86,7 @@ class KaneEquations(ClosedForms):
 
     def inertia_forces(self) -> sp.Matrix:
         """F̃*_r = −M̃ ẇ_ind + (f̃ − F̃_r), in the symbols of ẇ_ind (w + 'dot')."""
-        wdot = sp.Matrix([sp.Symbol(f"{w.name}dot") for w in self.independent])
+        wdot = sp.Matrix([Generated(f"{w.name}dot") for w in self.independent])
         return -self.mass_matrix * wdot + self.forcing - self.active_forces
 
     # --- closed forms ---------------------------------------------------------------------------
@@ -106,7 +105,8 @@ class KaneEquations(ClosedForms):
         return self._closed["blocks"]
 
     def _indices(self) -> tuple[list[int], list[int]]:
-        return [self.speeds.index(s) for s in self.dependent], [self.speeds.index(s) for s in self.independent]
+        index = self.speeds.index
+        return [index(s) for s in self.dependent], [index(s) for s in self.independent]
 
     def _speeds_closed(self) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
         """(w_dep, T = ∂w/∂w_ind, −C_dep⁻¹ r_con) with w_dep = −C_dep⁻¹ (C_ind w_ind + c0)."""
@@ -179,26 +179,25 @@ def _linear(exprs, symbols, what: str) -> tuple[sp.Matrix, sp.Matrix]:
     for i in range(exprs.rows):
         left = set().union(*(C[i, j].free_symbols for j in range(C.cols))) & set(symbols)
         if left:
-            raise ModelError(f"kane: {what} {i} is not linear in {list(symbols)} (∂/∂ still has {sorted(left, key=str)}): "
-                             f"{exprs[i]}")
+            raise ModelError(f"kane: {what} {i} is not linear in {list(symbols)} "
+                             f"(∂/∂ still has {sorted(left, key=str)}): {exprs[i]}")
     return C, exprs.xreplace({s: 0 for s in symbols})
 
 
 def _check_invertible(sub, matrices: dict[str, sp.Matrix], q: list, params: list) -> None:
     """cond(A) at SAMPLES random states (q uniform in [−π, π], parameters in [0.5, 1.5]) for each named
     square matrix A in q; ModelError if it is singular (cond > COND_LIMIT or not finite) at all of them."""
-    call = runtime_namespace()["_call"]
-    writer = FunctionWriter(sub, {"q": q, "u": [], "ud": [], "p": params})
     rng = np.random.default_rng(0)
-    qs = rng.uniform(-np.pi, np.pi, (SAMPLES, len(q)))
-    p = rng.uniform(0.5, 1.5, len(params))
+    states = [{**dict(zip(q, rng.uniform(-np.pi, np.pi, len(q)))),
+               **dict(zip(params, rng.uniform(0.5, 1.5, len(params))))} for _ in range(SAMPLES)]
     for what, A in matrices.items():
         if A.rows == 0:
             continue
-        source, shape, _ = writer.source("f", A)
-        with np.errstate(all="ignore"):
-            values = call(compile_function(source, what), shape, len(q), 0, qs, None, None, p)
-            conds = [np.linalg.cond(a) if np.all(np.isfinite(a)) else np.inf for a in values]
+        conds = []
+        for state in states:
+            a = np.array(sub.evaluate(list(A), state)).reshape(A.shape)
+            finite = np.all(np.isfinite(a)) and not np.iscomplex(a).any()
+            conds.append(np.linalg.cond(a.real) if finite else np.inf)
         if min(conds) > COND_LIMIT:
             raise ModelError(f"kane: {what} is not invertible: singular at all {SAMPLES} random states "
                              f"(smallest cond {min(conds):.1e})")
@@ -255,7 +254,8 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     Cd = sub.add_matrix(C[:, [speeds.index(s) for s in dependent]])
     Yn = sub.add_matrix(Y)
     _check_invertible(sub, {"the constraints' matrix of the dependent speeds C_dep": Cd,
-                            "the speed map (∂ kinematic equations / ∂q̇) Y": Yn}, q, sorted(parameters, key=str))
+                            "the speed map (∂ kinematic equations / ∂q̇) Y": Yn},
+                      q, sorted(parameters, key=str))
     rates = kin.time_derivative(sp.Matrix([*kinematic_equations, *nonholonomic]))  # ∂/∂q · q̇ (q̈, ẇ = 0)
     gravity = -eom.compact["g"]
     compact = {"M": eom.compact["M"],

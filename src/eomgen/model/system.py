@@ -320,7 +320,8 @@ class System:
     def add_spring(self, a, b, stiffness, rest_length=0, *, name=None) -> Spring:
         """Linear spring between points a and b (see `point`)."""
         name = self._load_name(name, "spring")
-        load = Spring(name, self.point(a), self.point(b), nonnegative(stiffness, f"spring '{name}': stiffness"),
+        load = Spring(name, self.point(a), self.point(b),
+                      nonnegative(stiffness, f"spring '{name}': stiffness"),
                       nonnegative(rest_length, f"spring '{name}': rest_length"))
         return self._add_load(load)
 

@@ -66,7 +66,8 @@ def check_urdf(path: Path, mimic: str = "refuse") -> None:
         follows = joint.find("mimic")
         if follows is not None and mimic == "refuse":
             raise ModelError(f"{owner} mimics joint '{follows.get('joint')}'; eomgen does not model mimic "
-                             "joints yet: from_urdf(..., mimic='independent') imports it as an independent joint")
+                             "joints yet: from_urdf(..., mimic='independent') imports it as an independent "
+                             "joint")
         if follows is not None:
             mimics.append(joint.get("name"))
     if mimics:
