@@ -224,5 +224,5 @@ class FunctionWriter:
 def compile_function(source: str, label: str, name: str = "f"):
     """The function `name` defined by `source` (our own generated arithmetic, nothing else)."""
     namespace: dict = {}
-    exec(compile(source, f"<eomgen {label}>", "exec"), namespace)
+    exec(compile(source, f"<eomgen {ascii(label)}>", "exec"), namespace)
     return namespace[name]

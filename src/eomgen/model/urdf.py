@@ -30,6 +30,15 @@ def _matrix(a) -> list:
     return [[number(x) for x in row] for row in np.atleast_2d(np.asarray(a, float))]
 
 
+def _axis(jmodel, angular: bool) -> tuple:
+    """A one-dof joint's axis, read off its motion subspace S = [linear; angular] at q = 0 (the
+    unbounded unaligned revolute does not expose its axis)."""
+    data = jmodel.createData()
+    jmodel.calc(data, np.array([1.0, 0.0]) if jmodel.nq == 2 else np.zeros(jmodel.nq))
+    S = np.asarray(data.S).ravel()
+    return tuple(number(x) for x in (S[3:] if angular else S[:3]))
+
+
 def _joint(jmodel, name: str, armature: float, base: str = "quaternion"):
     """(eomgen joint, continuous) for one Pinocchio joint model; a clear error for the others."""
     kind = jmodel.shortname()
@@ -37,14 +46,13 @@ def _joint(jmodel, name: str, armature: float, base: str = "quaternion"):
     if rest in ("RX", "RY", "RZ", "RUBX", "RUBY", "RUBZ"):
         return Revolute(name, axis=_AXES[rest[-1]], armature=armature), rest.startswith("RUB")
     if rest in ("RevoluteUnaligned", "RevoluteUnboundedUnaligned"):
-        axis = tuple(number(x) for x in jmodel.extract().axis)
-        return Revolute(name, axis=axis, armature=armature), rest == "RevoluteUnboundedUnaligned"
+        return Revolute(name, axis=_axis(jmodel, True), armature=armature), rest == "RevoluteUnboundedUnaligned"
     if rest in ("PX", "PY", "PZ"):
         return Prismatic(name, axis=_AXES[rest[-1]], armature=armature), False
     if rest == "FreeFlyer":
         return FreeFlyer(name, parametrization=base), False
     if rest == "PrismaticUnaligned":
-        return Prismatic(name, axis=tuple(number(x) for x in jmodel.extract().axis), armature=armature), False
+        return Prismatic(name, axis=_axis(jmodel, False), armature=armature), False
     raise ModelError(f"joint '{name}': unsupported joint type {kind} (eomgen models revolute, continuous, "
                      "prismatic and fixed joints)")
 
