@@ -100,6 +100,14 @@ def rotation(q, qd):
     return [s * qd[0] + c * qd[1], c * qd[0] - s * qd[1] - b * qd[2]]
 
 
+def elementary(q, qd):
+    """Constraints with tan, exp and atan2 (code for each in every backend):
+    ẋ1 − b cos x3 ẋ3 = 0, ẋ2 − tan(x3) ẋ1 − exp(−x1²) atan2(x2, 2) ẋ3 = 0; by hand
+    ẋ1 = b cos x3 ẋ3, ẋ2 = (b sin x3 + exp(−x1²) atan2(x2, 2)) ẋ3."""
+    return [qd[0] - b * sp.cos(q[2]) * qd[2],
+            qd[1] - sp.tan(q[2]) * qd[0] - sp.exp(-q[0]**2) * sp.atan2(q[1], 2) * qd[2]]
+
+
 def constrained_skate(constraints, force_at=None):
     """The skate's body and loads with speeds q̇, `constraints(q, q̇)` and ẋ3 independent."""
     system, _ = skate(force_at)

@@ -18,7 +18,9 @@ CASES = {"skate": (K.skate, K.skate_sympy, dict(force_at=K.l)),
                         lambda **kw: K.constrained_skate_sympy(K.pythagoras_sympy_form, **kw),
                         dict(force_at=K.l)),
          "rotation": (lambda **kw: K.constrained_skate(K.rotation, **kw),
-                      lambda **kw: K.constrained_skate_sympy(K.rotation, **kw), dict(force_at=K.l))}
+                      lambda **kw: K.constrained_skate_sympy(K.rotation, **kw), dict(force_at=K.l)),
+         "elementary": (lambda **kw: K.constrained_skate(K.elementary, **kw),
+                        lambda **kw: K.constrained_skate_sympy(K.elementary, **kw), dict(force_at=K.l))}
 P = {"m": 1.3, "I_x": 0.05, "I_y": 0.05, "I_z": 0.1, "a": 0.4, "l": 0.7, "R": 0.3, "g": 9.81, "F": 0.6,
      "tau_d": 0.3, "tau_s": -0.2, "b": 0.8}
 
@@ -113,6 +115,22 @@ def test_rotation_block_finite_at_zero():
         x = np.c_[q, w]
         assert np.all(np.isfinite(f.rhs(0, x, given(f)))) and np.all(np.isfinite(f.rhs(0, x[0], given(f))))
         np.testing.assert_allclose(f.rhs(0, x, given(f))[3], f.rhs(0, x[3], given(f)), rtol=1e-13)
+
+
+def test_elementary_functions_in_constraints():
+    """tan, exp, atan2 in the constraints: generated (NumPy and C, one state and batched) and equal to
+    the hand solution of K.elementary."""
+    system, args = K.constrained_skate(K.elementary, force_at=K.l)
+    k = eg.kane(system, **args)
+    rng = np.random.default_rng(3)
+    q = rng.uniform(-1.2, 1.2, (6, 3))
+    w = rng.uniform(-2, 2, (6, 1))
+    x1, x2, x3 = q.T
+    expected = w * np.c_[P["b"] * np.cos(x3), P["b"] * np.sin(x3) + np.exp(-x1**2) * np.arctan2(x2, 2)]
+    for backend in ("numpy", "c"):
+        f = eg.codegen(k, backend=backend)
+        np.testing.assert_allclose(f.dependent_speeds(q, w, given(f)), expected, rtol=1e-13, atol=1e-13)
+        np.testing.assert_allclose(f.dependent_speeds(q[2], w[2], given(f)), expected[2], rtol=1e-13, atol=1e-13)
 
 
 def test_parameter_only_in_a_constraint():
