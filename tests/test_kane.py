@@ -143,6 +143,8 @@ def test_parameter_only_in_a_constraint():
     q, w = np.array([0.1, 0.2, 0.4]), np.array([0.9])
     with pytest.raises(eg.ModelError, match=r"values missing for the parameters \['b'\]"):
         f.dependent_speeds(q, w, {k: v for k, v in given(f).items() if k != "b"})
+    bound = eg.codegen(k, params={**given(f), "b": 1.6})
+    np.testing.assert_array_equal(bound.rhs(0, np.r_[q, w]), f.rhs(0, np.r_[q, w], {**given(f), "b": 1.6}))
     one, two = (f.rhs(0, np.r_[q, w], {**given(f), "b": b}) for b in (0.8, 1.6))
     np.testing.assert_allclose(f.dependent_speeds(q, w, {**given(f), "b": 1.6}),
                                2 * f.dependent_speeds(q, w, given(f)))

@@ -14,7 +14,7 @@ from ..errors import ModelError
 from ..model import FreeFlyer
 from .contacts import contact_dynamics, row_names, support_projector
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
-from .parameters import Parameters, actuated, bind, parameters_of
+from .parameters import Parameters, actuated, bind
 from .runtime import runtime_namespace
 
 _runtime = runtime_namespace()
@@ -126,7 +126,7 @@ class NumericEoM:
 
     def _p(self, params: Mapping | None, key: str) -> list[float] | np.ndarray:
         """The parameter vector p for function `key` (the bound values, or those it uses from params)."""
-        return parameters_of(self).vector(params, self.functions[key].params_used)
+        return self.parameters.vector(params, self.functions[key].params_used)
 
     def bind(self, params: Mapping) -> NumericEoM:
         """The same functions with the parameter values fixed once ({name: value}, every parameter):

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import Generated, NumericEoM
+from .parameters import Parameters
 from .c_backend import CompiledEoM, extension_functions
 from .extension import compiler, python_headers
 from .numpy_backend import C_TRIG, PYTHON, FunctionWriter, compile_function
@@ -30,6 +31,7 @@ class NumericKane:
         self.n = len(kane.speeds)
         self.nq, self.nv = self.n, len(kane.independent)
         self.params = sorted(kane.parameters, key=str)
+        self.parameters = Parameters(self.params)
         self._dep, self._ind = kane._indices()
         w_inputs = [] if kane.speeds_are_qdot else list(kane.speeds)  # else w is q̇ itself
         writer = FunctionWriter(kane.subexpressions, {"q": list(kane.system.q), "u": list(kane.system.u),
@@ -45,7 +47,7 @@ class NumericKane:
         return {key: Generated(source, shape, ops, compile_function(source, key, f"e{i}"))
                 for i, (key, source, shape, ops, _) in enumerate(written)}
 
-    _p = NumericEoM._p
+    _p, bind = NumericEoM._p, NumericEoM.bind
 
     def _eval(self, key: str, q, qd=None, w=None, params=None) -> np.ndarray:
         """Generated function `key` at (q, q̇, w): shape batch + (rows, cols)."""

@@ -126,18 +126,9 @@ class BoundParameters(Parameters):
         return Parameters(self.symbols).bind(values)
 
 
-def parameters_of(functions) -> Parameters:
-    """The `Parameters` of numeric `functions` (a NumericKane's are made on first use from its symbols
-    `params`)."""
-    found = vars(functions).get("parameters")
-    if found is None:
-        found = functions.parameters = Parameters(functions.params)
-    return found
-
-
 def bind(functions, values: Mapping):
     """A copy of numeric `functions` whose calls take no params: the values are fixed once (every
     parameter, by name; see the module doc). The copy shares the generated functions."""
     bound = copy.copy(functions)
-    bound.parameters = parameters_of(functions).bind(values)
+    bound.parameters = functions.parameters.bind(values)
     return bound
