@@ -5,7 +5,7 @@
     "trig"    each closed-form entry of at most `max_ops` operations through sympy's trigsimp, then CSE
 
 eomgen's derivations already write named, shared intermediates (the default level, no call needed);
-`simplify` is never applied there (DESIGN.md): it is asked for here."""
+`simplify` is never applied there: it is asked for here."""
 from __future__ import annotations
 
 import sympy as sp
