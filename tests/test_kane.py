@@ -267,3 +267,24 @@ def test_example_runs(capsys):
     runpy.run_path(str(Path(__file__).parents[1] / "examples" / "nonholonomic.py"), run_name="__main__")
     out = capsys.readouterr().out
     assert "through C: F̃_r = [0, 0]" in out and "through P: F̃_r = [0, F*l]" in out
+
+
+def test_inputs_are_checked_where_they_enter(tmp_path):
+    """Strings are never evaluated, non-finite values and look-alike symbols are refused, naming the
+    argument; speeds must be sympy Symbols."""
+    system, args = K.particle()
+    marker = tmp_path / "PWNED"
+    with pytest.raises(eg.ModelError, match="kane: nonholonomic constraint 0: expected a number or a sympy"):
+        eg.kane(system, **{**args, "nonholonomic": [f"0*__import__('os').system('touch {marker}')"]})
+    assert not marker.exists()
+    with pytest.raises(eg.ModelError, match="kane: nonholonomic constraint 0: must be finite"):
+        eg.kane(system, **{**args, "nonholonomic": [sp.nan * system.u[2]]})
+    zdot = sp.Symbol(str(system.u[2]))  # labelled like the speed, but another symbol
+    with pytest.raises(eg.ModelError, match=f"parameter '{zdot}' has the name of the speed of joint"):
+        eg.kane(system, **{**args, "nonholonomic": [zdot - system.q[0] * system.u[1]]})
+    with pytest.raises(eg.ModelError, match="kane: speeds: expected sympy Symbols"):
+        eg.kane(system, speeds=["a", "b", "c"])
+    with pytest.raises(eg.ModelError, match="kane: independent: expected a list of sympy Symbols"):
+        eg.kane(system, **{**args, "independent": system.u[0]})
+    with pytest.raises(eg.ModelError, match="kane: expected an eomgen.System"):
+        eg.kane(eg.derive(system))

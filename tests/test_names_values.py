@@ -24,7 +24,8 @@ def _arm(names, base=None):
 
 
 @pytest.mark.parametrize("names", [("a", "adot", "b"), ("q_1", "qdot_1", "q_2"), ("a", "addot", "adot"),
-                                   ("_ξ0", "_ξ1", "tau_a"), ("sin", "lambda", "upper arm, left")])
+                                   ("_ξ0", "_ξ1", "tau_a"), ("sin", "lambda", "upper arm, left"),
+                                   ("a", "ad", "add")])
 def test_names_that_look_generated_give_pinocchio_equations(names):
     s = _arm(names)
     model = to_pinocchio(s)
@@ -37,6 +38,61 @@ def test_names_that_look_generated_give_pinocchio_equations(names):
         np.testing.assert_allclose(f.g(q), g, atol=1e-12)
         np.testing.assert_allclose(f.b(q, u), pin.nonLinearEffects(model, data, q, u) - g, atol=1e-12)
         np.testing.assert_allclose(f.M(q), pin.crba(model, data, q), atol=1e-12)
+
+
+def _euler_and_beam(base_joint: str, beam_joint: str):
+    s = eg.System(gravity=(0, 0, -9.81))
+    base = s.add_body("base", joint=eg.FreeFlyer("root", parametrization="euler"), mass=2,
+                      inertia=np.diag([0.3, 0.4, 0.5]))
+    arm = s.add_body("arm", parent=base, joint=eg.Revolute(base_joint, axis=(0, 1, 0)), mass=1, com=(0.3, 0, 0),
+                     inertia=np.diag([0.1, 0.2, 0.25]))
+    s.add_body("beam", parent=arm, joint=eg.FlexibleLink("beam", length=1, mass_per_length=0.5, EI=2.0),
+               placement=eg.Placement(translation=(0.6, 0, 0)))
+    s.add_body("tip", parent="beam", joint=eg.Revolute(beam_joint, axis=(0, 0, 1)), mass=0.5, com=(0.1, 0, 0),
+               inertia=np.diag([0.01, 0.01, 0.01]))
+    return eg.codegen(eg.derive(s, method="lagrange"))
+
+
+def test_labels_of_generated_symbols_never_collide():
+    """An Euler base 'root' beside a joint 'root_yaw' (whose speed is labelled like the base's yaw rate), a
+    flexible link 'beam' beside a joint 'w2_beam' (labelled like its nodal deflection): the same equations
+    as with plain names."""
+    plain, tricky = _euler_and_beam("j1", "j2"), _euler_and_beam("root_yaw", "w2_beam")
+    rng = np.random.default_rng(2)
+    q, u = rng.uniform(-1, 1, plain.nq), rng.uniform(-1, 1, plain.nv)
+    np.testing.assert_allclose(tricky.M(q), plain.M(q), atol=1e-13)
+    np.testing.assert_allclose(tricky.b(q, u), plain.b(q, u), atol=1e-12)
+    assert np.linalg.cond(tricky.M(q)) < 1e8
+
+
+def test_a_parameter_never_becomes_a_coordinate_or_a_speed():
+    g, phidot = sp.symbols("g phidot")
+    s = eg.System(gravity=(0, -g, 0))
+    with pytest.raises(eg.ModelError, match="joint 'g': its coordinate 'g' is a parameter of gravity already"):
+        s.add_body("a", joint=eg.Revolute("g"), mass=1, com=(1, 0, 0))
+    s.add_body("a", joint=eg.Revolute("phi"), mass=1, com=(1, 0, 0))
+    with pytest.raises(eg.ModelError, match="load 'drag': parameter 'phidot' has the name of the speed of joint "
+                                            "'phi'"):
+        s.add_torque("a", (0, 0, -0.1 * phidot), name="drag")
+    s.add_torque("a", (0, 0, -0.1 * s.u[0]), name="drag")  # the speed itself
+    s2 = eg.System()
+    s2.add_body("a", joint=eg.Revolute("x"), mass=sp.Symbol("ydot"), com=(1, 0, 0))
+    with pytest.raises(eg.ModelError, match="joint 'y': its speed is labelled 'ydot', the name of a parameter"):
+        s2.add_body("b", parent="a", joint=eg.Revolute("y"), mass=1)
+    s2.add_body("b", parent="a", joint=eg.Revolute("z"), mass=1)  # the refused change left nothing behind
+
+
+def test_equations_of_a_changed_system_are_refused():
+    s = eg.System()
+    a = s.add_body("a", joint=eg.Revolute("q1"), mass=1, com=(1, 0, 0))
+    eom = eg.derive(s)
+    s.add_force(a, (1, 0, 0), point=(1, 0, 0))
+    with pytest.raises(eg.ModelError, match="the system changed after these equations were derived"):
+        eg.codegen(eom)
+    with pytest.raises(eg.ModelError, match="the system changed"):
+        eom.tau
+    np.testing.assert_allclose(eg.codegen(eg.derive(s)).tau([0.0], [0.0]), [0.0])
+    np.testing.assert_allclose(eg.codegen(eg.derive(s)).tau([np.pi / 2], [0.0]), [-1.0])
 
 
 def test_free_flyer_beside_a_joint_named_like_its_components():
@@ -132,6 +188,8 @@ def test_non_finite_values_refused_where_they_enter(bad):
         s.add_spring(("a", (1, 0, 0)), None, bad, name="k")
     with pytest.raises(eg.ModelError, match="motor 'm': resistance"):
         s.add_motor("a", resistance=bad, inductance=1, torque_constant=1, rotor_inertia=1, name="m")
+    with pytest.raises(eg.ModelError, match="motor 'm': inductance must be positive"):
+        s.add_motor("a", resistance=1, inductance=0, torque_constant=1, rotor_inertia=1, name="m")
 
 
 def test_damper_with_coinciding_ends_is_refused():

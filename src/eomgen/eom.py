@@ -21,6 +21,12 @@ class ClosedForms:
 
     @property
     def subexpressions(self) -> Subexpressions:
+        """The named intermediates; refused once the system has changed since the derivation (the
+        equations would silently miss the change)."""
+        system = self.kinematics.system
+        if self.kinematics.version != system.version:
+            raise ModelError("the system changed after these equations were derived (a body, frame, load, "
+                             "contact or motor was added): derive them again")
         return self.kinematics.sub
 
     def _closed_form(self, name: str):
@@ -71,7 +77,7 @@ class EquationsOfMotion(ClosedForms):
     @property
     def tau_actuated(self) -> sp.Matrix:
         """Symbols of the actuated joints' torques / forces τ_a (one per row of S)."""
-        return sp.Matrix([Generated(f"tau_{j.name}") for j in self.system.joints if j.actuated])
+        return sp.Matrix([Generated(f"tau_{j.name}", ("tau", j.name)) for j in self.system.joints if j.actuated])
 
     M = closed_form("M", "Mass matrix M(q).")
     b = closed_form("b", "Centrifugal and Coriolis terms b(q, u).")

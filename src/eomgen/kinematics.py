@@ -24,6 +24,7 @@ class Kinematics:
 
     def __init__(self, system: System) -> None:
         self.system = system
+        self.version = system.version  # the model these kinematics describe
         self.q, self.u = list(system.q), list(system.u)
         self.n = len(self.u)
         self.sub = Subexpressions()

@@ -58,7 +58,8 @@ class Subexpressions:
             return expr
         if expr in self._named:  # the same expression twice: one name
             return self._named[expr]
-        symbol = Generated(f"{self.prefix}{len(self.definitions)}")  # not Dummy: same model, same order
+        k = len(self.definitions)
+        symbol = Generated(f"{self.prefix}{k}", (self.prefix, k))  # not Dummy: same model, same order
         self._index[symbol] = len(self.definitions)
         self._uses[symbol] = tuple(s for s in expr.free_symbols if s in self.definitions)
         self.definitions[symbol] = expr

@@ -15,7 +15,7 @@ from ..linalg import dot
 from ..model import FlexibleLink
 from ..symbols import Generated
 
-_xi, _h, _x0 = (Generated(x, positive=True) for x in ("xi", "h", "x0"))
+_xi, _h, _x0 = (Generated(x, ("element", x), positive=True) for x in ("xi", "h", "x0"))
 
 
 def shape_functions(h=_h, xi=_xi) -> list[sp.Expr]:

@@ -223,21 +223,21 @@ def cut_equations(kin: Kinematics) -> CutEquations:
                     continue  # out of the plane: decoupled, not part of the planar system
                 column = list(B[:, k])
                 name = "xyz"[column.index(1)] if sorted(column) == [0, 0, 1] else f"{k + 1}"
-                lam = Generated(f"{kind}_{b.name}_{name}")
+                lam = Generated(f"{kind}_{b.name}_{name}", (kind, b.name, name))
                 reaction_unknowns.append(lam)
                 if kind == "F":
                     F += direction * lam
                 else:
                     T += direction * lam
         if b.joint.actuated and b.index is not None:
-            tau = Generated(f"tau_{b.joint.name}") * sub.inline(kin.e[b])
+            tau = Generated(f"tau_{b.joint.name}", ("tau", b.joint.name)) * sub.inline(kin.e[b])
             F, T = (F + tau, T) if isinstance(b.joint, Prismatic) else (F, T + tau)
         W[b] = (F, T)
     ext = external_terms(kin, system.loads)
     dynamic, kinematic, accelerations, substituted = [], [], [], []
     for b in system.bodies:
-        a = sp.Matrix([Generated(f"a_{b.name}_{c}") for c in "xyz"])
-        alpha = sp.Matrix([Generated(f"alpha_{b.name}_{c}") for c in "xyz"])
+        a = sp.Matrix([Generated(f"a_{b.name}_{c}", ("a", b.name, c)) for c in "xyz"])
+        alpha = sp.Matrix([Generated(f"alpha_{b.name}_{c}", ("alpha", b.name, c)) for c in "xyz"])
         S = Point(b, b.com)
         a_of_ud = sub.inline(kin.J_P(S) * ud + kin.Jdot_u_P(S))
         alpha_of_ud = sub.inline(kin.J_R(b) * ud + kin.Jdot_u_R(b))

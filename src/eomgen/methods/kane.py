@@ -29,6 +29,7 @@ from ..errors import ModelError
 from ..kinematics import Kinematics
 from ..model import FlexibleLink, FreeFlyer
 from ..model.system import System
+from ..model.values import scalar
 from ..symbols import Generated
 from . import projected_newton_euler
 
@@ -86,7 +87,7 @@ class KaneEquations(ClosedForms):
 
     def inertia_forces(self) -> sp.Matrix:
         """F̃*_r = −M̃ ẇ_ind + (f̃ − F̃_r), in the symbols of ẇ_ind (w + 'dot')."""
-        wdot = sp.Matrix([Generated(f"{w.name}dot") for w in self.independent])
+        wdot = sp.Matrix([Generated(f"{w.name}dot", ("dot", w)) for w in self.independent])
         return -self.mass_matrix * wdot + self.forcing - self.active_forces
 
     # --- closed forms ---------------------------------------------------------------------------
@@ -184,6 +185,28 @@ def _linear(exprs, symbols, what: str) -> tuple[sp.Matrix, sp.Matrix]:
     return C, exprs.xreplace({s: 0 for s in symbols})
 
 
+def _symbols(values, what: str) -> list[sp.Symbol]:
+    """A list of sympy Symbols (speeds), or a ModelError naming `what`."""
+    if isinstance(values, (str, sp.Basic)) or not hasattr(values, "__iter__"):
+        raise ModelError(f"kane: {what}: expected a list of sympy Symbols, got {values!r}")
+    values = list(values)
+    wrong = [v for v in values if not isinstance(v, sp.Symbol)]
+    if wrong:
+        raise ModelError(f"kane: {what}: expected sympy Symbols, got {wrong}")
+    return values
+
+
+def _expressions(system: System, exprs, what: str, speeds: list) -> list[sp.Expr]:
+    """Checked expressions (see `model.values.scalar`) whose symbols are the system's, the speeds or new
+    parameters with names of their own (never the label of a speed: `Symbol("xdot")` is not ẋ)."""
+    if isinstance(exprs, (str, sp.Basic)) or not hasattr(exprs, "__iter__"):
+        raise ModelError(f"kane: {what}s: expected a list of expressions, got {exprs!r}")
+    checked = [scalar(e, f"kane: {what} {i}") for i, e in enumerate(exprs)]
+    for i, e in enumerate(checked):
+        system.check_symbols(f"kane: {what} {i}", e, own=speeds)
+    return checked
+
+
 def _check_invertible(sub, matrices: dict[str, sp.Matrix], q: list, params: list) -> None:
     """cond(A) at SAMPLES random states (q uniform in [−π, π], parameters in [0.5, 1.5]) for each named
     square matrix A in q; ModelError if it is singular (cond > COND_LIMIT or not finite) at all of them."""
@@ -208,15 +231,20 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     """Kane's equations of `system` in the generalized `speeds` w, defined by `kinematic_equations`
     (expressions = 0, linear in q̇ = system.u and w; default w = q̇), with the velocity constraints
     `nonholonomic` (expressions in q and w = 0, linear in w) and the `independent` speeds."""
+    if not isinstance(system, System):
+        raise ModelError(f"kane: expected an eomgen.System, got {type(system).__name__}")
     if any(isinstance(j, FreeFlyer) for j in system.joints):
         raise ModelError("kane: a free-flyer base is not supported; give the base its own joints")
     if any(isinstance(j, FlexibleLink) for j in system.joints):
         raise ModelError("kane: flexible links are not supported")
     q, qd = list(system.q), list(system.u)
     n = len(qd)
-    speeds = qd if speeds is None else list(speeds)
+    speeds = qd if speeds is None else _symbols(speeds, "speeds")
     if len(speeds) != n or len(set(speeds)) != n:
         raise ModelError(f"kane: give {n} distinct speeds, got {speeds}")
+    kinematic_equations, nonholonomic = (None if exprs is None else _expressions(system, exprs, what, speeds)
+                                         for exprs, what in ((kinematic_equations, "kinematic equation"),
+                                                             (nonholonomic, "nonholonomic constraint")))
     if kinematic_equations is None:
         if speeds != qd:
             raise ModelError("kane: new speeds need kinematic_equations (Y q̇ + K w + k0 = 0)")
@@ -230,7 +258,7 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
         YK, k0 = _linear(kinematic_equations, qd + speeds, "kinematic equation")
         Y, K = YK[:, :n], YK[:, n:]
     nonholonomic = list(nonholonomic or [])
-    independent = speeds if independent is None else list(independent)
+    independent = speeds if independent is None else _symbols(independent, "independent")
     unknown = [s for s in independent if s not in speeds]
     if unknown:
         raise ModelError(f"kane: independent speeds {unknown} are not among the speeds {speeds}")

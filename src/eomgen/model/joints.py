@@ -105,7 +105,7 @@ class Joint:
 def speed_symbol(q: sp.Symbol, suffix: str = "dot") -> sp.Symbol:
     """u for coordinate q: 'phi' → 'phidot' (φ̇), 'q_1' → 'qdot_1' (q̇₁)."""
     base, sep, sub = q.name.partition("_")
-    return Generated(f"{base}{suffix}{sep}{sub}")
+    return Generated(f"{base}{suffix}{sep}{sub}", (suffix, q))
 
 
 class Revolute(Joint):
@@ -141,10 +141,10 @@ class FreeFlyer(Joint):
         self.name, self.q, self.axis, self.actuated, self.armature = name, None, None, False, sp.Integer(0)
         self.parametrization = parametrization
         if parametrization == "quaternion":
-            self._q = [Generated(f"{name}_{c}") for c in ("x", "y", "z", "qx", "qy", "qz", "qw")]
-            self._u = [Generated(f"{name}_{c}") for c in ("vx", "vy", "vz", "wx", "wy", "wz")]
+            self._q = [Generated(f"{name}_{c}", (name, c)) for c in ("x", "y", "z", "qx", "qy", "qz", "qw")]
+            self._u = [Generated(f"{name}_{c}", (name, c)) for c in ("vx", "vy", "vz", "wx", "wy", "wz")]
         else:
-            self._q = [Generated(f"{name}_{c}") for c in ("x", "y", "z", "yaw", "pitch", "roll")]
+            self._q = [Generated(f"{name}_{c}", (name, c)) for c in ("x", "y", "z", "yaw", "pitch", "roll")]
             self._u = [speed_symbol(x) for x in self._q]
 
     @property
@@ -157,7 +157,7 @@ class FreeFlyer(Joint):
 
     @property
     def accelerations(self):
-        return [Generated(f"{s.name}dot") for s in self._u]
+        return [Generated(f"{s.name}dot", ("dot", s)) for s in self._u]
 
     def rotation(self) -> sp.Matrix:
         """R(q): for a unit quaternion as Pinocchio / Eigen compute it, or Rz(ψ) Ry(θ) Rx(φ)."""
@@ -212,7 +212,7 @@ class FlexibleLink(Joint):
                 raise ModelError(f"joint '{self.name}': {label} must be positive, got {values[label]}")
         self.length, self.mass_per_length, self.EI = values.values()
         self.elements = elements
-        self.nodal = [Generated(f"{kind}{k}_{self.name}") for k in range(2, elements + 2)
+        self.nodal = [Generated(f"{kind}{k}_{self.name}", (self.name, kind, k)) for k in range(2, elements + 2)
                       for kind in ("w", "s")]
 
     @property

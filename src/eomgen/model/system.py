@@ -1,19 +1,18 @@
 """The multibody system: bodies in a tree, joints, frames, loads, gravity. Building computes nothing."""
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import warnings
+from contextlib import contextmanager
+from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
-from ..symbols import user_symbols
+from ..symbols import Generated, user_symbols
 from .joints import Fixed, FreeFlyer, Joint, Placement, Revolute
-from ..symbols import Generated
-from .values import is_numeric, matrix3, nonnegative, scalar, vector3
 from .loads import Actuator, Damper, Force, Motor, Point, Spring, Torque
+from .values import is_numeric, matrix3, nonnegative, scalar, vector3
 
 
 @dataclass(eq=False)
@@ -67,6 +66,9 @@ class System:
         self.motors: list[Motor] = []
         self._bodies: dict[str, Body] = {}
         self._symbols: dict[str, tuple[sp.Symbol, str]] = {}  # name → (the user's symbol, where it entered)
+        self._coordinates: set[sp.Symbol] = set()
+        self._labels: dict[str, str] = {}  # label of an eomgen symbol (a speed, ...) → what it stands for
+        self.version = 0  # counts the changes: equations derived before one are refused (see ClosedForms)
         self._register("gravity", self.gravity)
 
     # --- coordinates -------------------------------------------------------------------------
@@ -134,13 +136,57 @@ class System:
     # --- building ----------------------------------------------------------------------------
     def _register(self, what: str, *values) -> None:
         """Parameters are given by name: two different symbols of one name (say Symbol('l') and
-        Symbol('l', positive=True)) would be one name for two values, and are refused here."""
+        Symbol('l', positive=True)) would be one name for two values, and a parameter labelled like
+        one of eomgen's symbols (`phidot` beside the speed of joint `phi`) would be taken for it; both
+        are refused here."""
         for value in values:
+            self.check_symbols(what, value)
             for s in user_symbols(value):
-                known, where = self._symbols.setdefault(s.name, (s, what))
-                if known != s:
-                    raise ModelError(f"{what}: symbol {sp.srepr(s)} differs from {sp.srepr(known)} of "
-                                     f"{where}, with the same name; use one symbol per name")
+                self._symbols.setdefault(s.name, (s, what))
+
+    def check_symbols(self, what: str, value, own=()) -> None:
+        """Refuse a user symbol of `value` (not in `own`) that has the name of another symbol of this
+        system, or of one of eomgen's symbols (a speed, an acceleration, ...), naming `what`."""
+        own_names = {s.name: s for s in own}
+        for s in user_symbols(value) - set(own):
+            if s not in self._coordinates and s.name in self._labels:
+                raise ModelError(f"{what}: parameter '{s.name}' has the name of {self._labels[s.name]}, "
+                                 "which is eomgen's own symbol (System.u, System.ud); use that symbol, or "
+                                 "another name for a parameter")
+            known, where = self._symbols.get(s.name, (own_names.get(s.name, s), what))
+            if known != s:
+                raise ModelError(f"{what}: symbol {sp.srepr(s)} differs from {sp.srepr(known)} of "
+                                 f"{where}, with the same name; use one symbol per name")
+
+    def _add_joint(self, joint: Joint) -> None:
+        """Register a joint's coordinates (never a parameter already) and the labels of its speeds and
+        accelerations (never a parameter's name)."""
+        for s in user_symbols(sp.Matrix(joint.coordinates)):
+            if s.name in self._symbols:
+                raise ModelError(f"joint '{joint.name}': its coordinate '{s.name}' is a parameter of "
+                                 f"{self._symbols[s.name][1]} already; name the joint otherwise")
+            self._symbols[s.name] = (s, f"joint '{joint.name}'")
+            self._coordinates.add(s)
+        generated = [(kind, x) for kind, xs in (("coordinate", joint.coordinates), ("speed", joint.speeds),
+                                                ("acceleration", joint.accelerations))
+                     for x in xs if isinstance(x, Generated)]
+        for kind, x in generated:
+            if x.name in self._symbols and self._symbols[x.name][0] not in self._coordinates:
+                raise ModelError(f"joint '{joint.name}': its {kind} is labelled '{x.name}', the name of a "
+                                 f"parameter of {self._symbols[x.name][1]}; rename that parameter")
+            self._labels[x.name] = f"the {kind} of joint '{joint.name}'"
+
+    @contextmanager
+    def _changing(self):
+        """One change of the model: the registry is restored if the change is refused, and the
+        version counted if it is made."""
+        saved = dict(self._symbols), set(self._coordinates), dict(self._labels)
+        try:
+            yield
+        except BaseException:
+            self._symbols, self._coordinates, self._labels = saved
+            raise
+        self.version += 1
 
     def body(self, ref) -> Body:
         """The body given by name or object; a clear error if it is not part of this system."""
@@ -197,9 +243,10 @@ class System:
             if moving:
                 raise ModelError(f"body '{name}': {field_name} depends on the coordinates or speeds "
                                  f"{moving}; it must be constant (a parameter or a number)")
-        self._register(f"joint '{joint.name}'", sp.Matrix(joint.coordinates))
-        for field_name, value in fields.items():
-            self._register(f"body '{name}': {field_name}", value)
+        with self._changing():
+            self._add_joint(joint)
+            for field_name, value in fields.items():
+                self._register(f"body '{name}': {field_name}", value)
         body = Body(name, parent, joint, mass, com, inertia, placement,
                     self.nv if joint.dof else None, self.nq if joint.dof else None)
         self.bodies.append(body)
@@ -215,7 +262,8 @@ class System:
         placement = Placement() if placement is None else placement
         if not isinstance(placement, Placement):
             raise ModelError(f"frame '{name}': placement must be an eomgen.Placement")
-        self._register(f"frame '{name}': placement", placement.rotation, placement.translation)
+        with self._changing():
+            self._register(f"frame '{name}': placement", placement.rotation, placement.translation)
         frame = Frame(name, self.body(body), placement)
         self.frames[name] = frame
         return frame
@@ -230,6 +278,7 @@ class System:
             raise ModelError(f"contact at '{frame}' exists already")
         contact = Contact(frame, kind)
         self.contacts.append(contact)
+        self.version += 1
         return contact
 
     def point(self, ref) -> Point:
@@ -258,7 +307,8 @@ class System:
 
     def _add_load(self, load):
         """Append a load, its symbols registered (see `_register`)."""
-        self._register(f"load '{load.name}'", *[x for v in vars(load).values() for x in _entries(v)])
+        with self._changing():
+            self._register(f"load '{load.name}'", *[x for v in vars(load).values() for x in _entries(v)])
         self.loads.append(load)
         return load
 
@@ -304,9 +354,12 @@ class System:
             resistance=resistance, inductance=inductance, torque_constant=torque_constant,
             rotor_inertia=rotor_inertia, friction=friction).items()}
         N = scalar(gear_ratio, f"motor '{name}': gear_ratio")
-        current = Generated(f"i_{name}")
-        voltage = Generated(f"U_{name}") if voltage is None else scalar(voltage, f"motor '{name}': voltage")
-        self._register(f"motor '{name}'", N, voltage, *values.values())
+        current = Generated(f"i_{name}", ("current", name))
+        voltage = Generated(f"U_{name}", ("voltage", name)) if voltage is None else scalar(voltage, f"motor '{name}': voltage")
+        if values["inductance"].is_zero:
+            raise ModelError(f"motor '{name}': inductance must be positive (L di/dt = U − R i − k N q̇)")
+        with self._changing():
+            self._register(f"motor '{name}'", N, voltage, *values.values())
         motor = Motor(name, b, current, voltage,
                       values["resistance"], values["inductance"], values["torque_constant"],
                       values["rotor_inertia"], values["friction"], N)
