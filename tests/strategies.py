@@ -44,7 +44,7 @@ ALPHABET = KEYWORDS + SYMPY + EOMGEN + UNICODE + PUNCTUATION
 # torques and currents, free-cut unknowns, sympy's splitting of names at spaces and commas,
 # NFKC-equal spellings.
 CLUSTERS = [
-    ["a", "adot", "addot", "adotdot", "adot_1", "a_1", "adot_1"],
+    ["a", "adot", "addot", "adotdot", "adot_1", "a_1", "adot_1", "ad", "add", "addd"],
     ["q_1", "qdot_1", "qddot_1", "q", "qdot", "qddot", "q_1_1", "qdot_1_1", "q_", "qdot_"],
     ["_ξ0", "_ξ1", "_ξ2", "_ξ3", "_ξ5", "_ξ8", "_ξ10", "_ξ20"],
     ["_x0", "_x1", "_x3", "_q0", "_q1", "_u0", "_u1", "_ud0", "_p0", "_sin_q0", "_cos_q1"],

@@ -77,7 +77,8 @@ class EquationsOfMotion(ClosedForms):
     @property
     def tau_actuated(self) -> sp.Matrix:
         """Symbols of the actuated joints' torques / forces τ_a (one per row of S)."""
-        return sp.Matrix([Generated(f"tau_{j.name}", ("tau", j.name)) for j in self.system.joints if j.actuated])
+        joints = [j for j in self.system.joints if j.actuated]
+        return sp.Matrix([Generated(f"tau_{j.name}", ("tau", j.name)) for j in joints])
 
     M = closed_form("M", "Mass matrix M(q).")
     b = closed_form("b", "Centrifugal and Coriolis terms b(q, u).")

@@ -212,7 +212,8 @@ class FlexibleLink(Joint):
                 raise ModelError(f"joint '{self.name}': {label} must be positive, got {values[label]}")
         self.length, self.mass_per_length, self.EI = values.values()
         self.elements = elements
-        self.nodal = [Generated(f"{kind}{k}_{self.name}", (self.name, kind, k)) for k in range(2, elements + 2)
+        self.nodal = [Generated(f"{kind}{k}_{self.name}", (self.name, kind, k))
+                      for k in range(2, elements + 2)
                       for kind in ("w", "s")]
 
     @property

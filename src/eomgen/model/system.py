@@ -355,7 +355,8 @@ class System:
             rotor_inertia=rotor_inertia, friction=friction).items()}
         N = scalar(gear_ratio, f"motor '{name}': gear_ratio")
         current = Generated(f"i_{name}", ("current", name))
-        voltage = Generated(f"U_{name}", ("voltage", name)) if voltage is None else scalar(voltage, f"motor '{name}': voltage")
+        voltage = (Generated(f"U_{name}", ("voltage", name)) if voltage is None
+                   else scalar(voltage, f"motor '{name}': voltage"))
         if values["inductance"].is_zero:
             raise ModelError(f"motor '{name}': inductance must be positive (L di/dt = U − R i − k N q̇)")
         with self._changing():

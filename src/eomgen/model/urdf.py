@@ -46,7 +46,8 @@ def _joint(jmodel, name: str, armature: float, base: str = "quaternion"):
     if rest in ("RX", "RY", "RZ", "RUBX", "RUBY", "RUBZ"):
         return Revolute(name, axis=_AXES[rest[-1]], armature=armature), rest.startswith("RUB")
     if rest in ("RevoluteUnaligned", "RevoluteUnboundedUnaligned"):
-        return Revolute(name, axis=_axis(jmodel, True), armature=armature), rest == "RevoluteUnboundedUnaligned"
+        unbounded = rest == "RevoluteUnboundedUnaligned"
+        return Revolute(name, axis=_axis(jmodel, True), armature=armature), unbounded
     if rest in ("PX", "PY", "PZ"):
         return Prismatic(name, axis=_AXES[rest[-1]], armature=armature), False
     if rest == "FreeFlyer":
