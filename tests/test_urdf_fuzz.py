@@ -31,9 +31,11 @@ PHASES = [Phase.explicit, Phase.reuse, Phase.generate] + ([Phase.shrink] if os.e
 COMMON = dict(deadline=None, derandomize=True, database=None, print_blob=True, phases=PHASES,
               suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much])
 
-BAD_NUMBERS = ["nan", "NaN", "inf", "-inf", "-1", "-0.5", "0", "1e300", "1e-300", "-1e300", "abc", "", "1 2", "0x10"]
+BAD_NUMBERS = ["nan", "NaN", "inf", "-inf", "-1", "-0.5", "0", "1e300", "1e-300", "-1e300", "abc", "", "1 2", "0x10",
+               "1_0", "1 ", "1e", ".5", "5."]  # urdfdom drops the first three, reads the last two
 JOINT_TYPES = ["revolute", "prismatic", "continuous", "fixed", "planar", "floating", "ball", ""]
-ORIGINS = ["nan 0 0", "0 inf 0", "1e300 0 0", "1 2", "1 2 3 4", "a b c", "", "0.1 -0.2 0.3", "3.2 -1.5 7"]
+ORIGINS = ["nan 0 0", "0 inf 0", "1e300 0 0", "1 2", "1 2 3 4", "a b c", "", "0.1 -0.2 0.3", "3.2 -1.5 7",
+           "0.1\t0 0", "1_0 0 0", " 0.1  0 0 "]
 AXES = ["0 0 0", "nan 0 1", "1 1 0", "0 0 -1", "1e-20 0 0", "1 0", "0 1 inf", "3 0 0"]
 INERTIA_FIELDS = ["ixx", "ixy", "ixz", "iyy", "iyz", "izz"]
 
