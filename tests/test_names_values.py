@@ -235,3 +235,10 @@ def test_urdf_mimic_refused_or_imported_on_request(tmp_path):
     with pytest.warns(UserWarning, match=r"mimic joints \['j2'\] imported as independent joints"):
         s = eg.from_urdf(path, mimic="independent")
     assert verify(s, states=3).ok(1e-10)
+
+
+def test_values_too_large_for_float64_products():
+    """1e300 kg is finite, but m l² overflows float64: refused where it enters (also from a URDF)."""
+    with pytest.raises(eg.ModelError, match="body 'a': mass: 1e\\+300 is too large"):
+        eg.System().add_body("a", joint=eg.Revolute("q"), mass=1e300)
+    eg.System().add_body("a", joint=eg.Revolute("q"), mass=1e150)

@@ -15,6 +15,7 @@ from sympy.core.function import AppliedUndef
 from ..errors import ModelError
 
 _UNHANDLED = (AppliedUndef, sp.Derivative, sp.Integral)
+LARGEST = 1e150  # its square is still a float64
 
 
 def scalar(value, what: str) -> sp.Expr:
@@ -30,6 +31,9 @@ def scalar(value, what: str) -> sp.Expr:
         raise ModelError(f"{what}: must be finite, got {expr}")
     if expr.is_number and expr.is_real is False:
         raise ModelError(f"{what}: must be real, got {expr}")
+    if expr.is_number and abs(float(expr)) > LARGEST:
+        raise ModelError(f"{what}: {float(expr):.3g} is too large: products of two model values must stay "
+                         f"finite in float64 (|value| ≤ {LARGEST:.0e})")
     unhandled = expr.atoms(*_UNHANDLED)
     if unhandled:
         raise ModelError(f"{what}: {sorted(map(str, unhandled))[0]} is not a value eomgen handles; use plain "
