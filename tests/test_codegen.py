@@ -4,6 +4,7 @@ import ast
 import re
 
 import numpy as np
+import pytest
 import sympy as sp
 
 import eomgen as eg
@@ -58,3 +59,16 @@ def test_cart_pendulum_numbers():
                                                   [m_p * l * np.cos(phi), m_p * l**2]], rtol=1e-14)
     np.testing.assert_allclose(f.b([x, phi], [xd, phid], p), [-m_p * l * np.sin(phi) * phid**2, 0], atol=1e-15)
     np.testing.assert_allclose(f.g([x, phi], p), [0, m_p * g * l * np.sin(phi)], rtol=1e-14)
+
+
+def test_entry_points_refuse_the_wrong_kind_of_model(tmp_path):
+    system, _ = cart_pendulum()
+    eom = eg.derive(system)
+    for call in (lambda: eg.codegen(system), lambda: eg.codegen(system, backend="c"),
+                 lambda: eg.write_module(system, tmp_path / "m.py")):
+        with pytest.raises(eg.ModelError, match=r": expected EquationsOfMotion.*, got System \(derive"):
+            call()
+    with pytest.raises(eg.ModelError, match="verify: expected a System .*, got EquationsOfMotion"):
+        eg.verify(eom)
+    with pytest.raises(eg.ModelError, match="q: expected real numbers, got dict"):
+        eg.codegen(eom).M({"x": 0.1, "phi": 0.2}, {"m_c": 1, "m_p": 0.5, "l": 0.7, "g": 9.81})

@@ -126,17 +126,17 @@ def test_every_output_path_agrees(tmp_path, cache):
         np.testing.assert_allclose(got, plain, rtol=1e-13, atol=1e-13, err_msg=label)
 
 
-def test_parameters_by_name_or_written_order(tmp_path):
+def test_parameters_by_name_only(tmp_path):
     eom = eg.derive(spring_cart_pendulum())
     m, f = load(eg.write_module(eom, tmp_path / "cp_eom.py")), eg.codegen(eom)
     q = np.array([0.1, 0.7])
     readme_order = (P["m_c"], P["m_p"], P["l"], P["g"])
-    with pytest.raises(ValueError, match=r"expected 6 values in the order of PARAMETERS \['F', 'g', 'k'"):
-        m.M(q, readme_order)
-    with pytest.raises(eg.ModelError, match="expected a mapping"):
-        f.M(q, readme_order)
+    for module in (m, f):  # no positions, not even in the order of PARAMETERS
+        for values in (readme_order, [P[n] for n in m.PARAMETERS], np.array([P[n] for n in m.PARAMETERS])):
+            with pytest.raises(ValueError, match=r"given by name only\), got (tuple|list|ndarray); "
+                                                 r"the parameters are \['F', 'g', 'k', 'l', 'm_c', 'm_p'\]"):
+                module.M(q, values)
     np.testing.assert_allclose(m.M(q, P), by_hand(q, q, 0.0)[0], rtol=1e-14)
-    np.testing.assert_allclose(m.M(q, tuple(P[n] for n in m.PARAMETERS)), m.M(q, P), rtol=0)
     symbols = {sp.Symbol(n, positive=True): v for n, v in P.items()}  # the symbols themselves name them too
     np.testing.assert_allclose(f.M(q, symbols), m.M(q, P), rtol=0)
     for module in (m, f):
@@ -146,6 +146,37 @@ def test_parameters_by_name_or_written_order(tmp_path):
             module.M(q, {"m_c": 1.0})
         with pytest.raises(ValueError, match=r"the values of \['m_p'\] are not finite"):
             module.M(q, {**P, "m_p": np.inf})
+
+
+def checked_model() -> eg.System:
+    """One body whose g(q) uses a parameter of each assumption the values are checked against."""
+    m, h = sp.Symbol("m", positive=True), sp.Symbol("h", negative=True)
+    c, d, n = sp.Symbol("c", nonzero=True), sp.Symbol("d", nonnegative=True), sp.Symbol("n", integer=True)
+    system = eg.System(gravity=(0, h, 0))
+    system.add_body("a", joint=eg.Revolute("q1"), mass=m, com=(c + d, n, 0))
+    return system
+
+
+def test_parameter_values_checked_like_model_values(tmp_path, cache):
+    eom = eg.derive(checked_model())
+    m = load(eg.write_module(eom, tmp_path / "checked.py"))
+    assert m.ASSUMPTIONS == {"c": ("nonzero",), "d": ("nonnegative",), "h": ("negative",),
+                             "m": ("positive",), "n": ("integer",)}
+    good = {"m": 2.0, "h": -9.81, "c": -0.5, "d": 0.0, "n": 2}
+    q = [0.4]
+    expected = -2.0 * -9.81 * (-0.5 * np.cos(0.4) - 2 * np.sin(0.4))  # −m g_y ∂(y_com)/∂q with g_y = h
+    f = eg.codegen(eom)
+    for module in (m, f, eg.codegen(eom, backend="c")):
+        np.testing.assert_allclose(module.g(q, good), [expected], rtol=1e-14)
+        for name, value, rule in [("m", 0.0, "> 0"), ("h", 0.5, "< 0"), ("c", 0.0, "nonzero"),
+                                  ("d", -1e-9, ">= 0"), ("n", 1.5, "an integer")]:
+            with pytest.raises(ValueError, match=rf"assumptions: {name} = {value!r} \(must be {rule}\)"):
+                module.g(q, {**good, name: value})
+        for value in ("0.7", b"1", True, np.bool_(False), 1j, [0.7]):
+            with pytest.raises(ValueError, match=r"the values of \['c'\] are not finite real numbers"):
+                module.g(q, {**good, "c": value})
+    with pytest.raises(eg.ModelError, match=r"m = -1.0 \(must be > 0\)"):
+        f.bind({**good, "m": -1})
 
 
 def test_bind(cache):
@@ -193,3 +224,37 @@ def test_header_documents_and_cannot_be_injected(tmp_path):
     g_doc = header[header.index("gravity terms"):header.index("void cp_g(")]
     assert "out: 2 x 1, row-major; reads q[0, 1]; p[1, 3, 5]" in g_doc  # g, l, m_p
     subprocess.run(["cc", "-Wall", "-Werror", "-c", str(c), "-o", str(tmp_path / "cp.o")], check=True)
+
+
+def test_wrong_inputs_are_value_errors(tmp_path):
+    """ModelError in eomgen, ValueError in a written module (which needs no eomgen)."""
+    eom = eg.derive(spring_cart_pendulum())
+    m = load(eg.write_module(eom, tmp_path / "cp_eom.py"))
+    for module, error in ((m, ValueError), (eg.codegen(eom), eg.ModelError)):
+        shape = r"expected shape \(2,\) or \(N, 2\), got "
+        numbers = "expected real numbers, got "
+        for q, message in [({"x": 0.1, "phi": 0.2}, numbers + "dict"), (["0", "0.3"], numbers + "list"),
+                           ([True, False], numbers + "list"), (None, shape + r"\(\)"),
+                           ([0.1, 0.2, 0.3], shape + r"\(3,\)"), ([np.nan, 0.1], "contains NaN")]:
+            with pytest.raises(error, match=f"q: {message}"):
+                module.M(q, P)
+        with pytest.raises(error, match=r"u: expected shape \(2,\), got \(1,\)"):
+            module.b([0.1, 0.2], [0.1], P)
+
+
+def test_number_symbols_print_as_their_values(tmp_path, cache):
+    """pi, E (also as exp(1)), GoldenRatio and EulerGamma are written as their float values."""
+    system = eg.System(gravity=(0, -sp.GoldenRatio, 0))
+    system.add_body("a", joint=eg.Revolute("q1"), mass=sp.exp(1), com=(sp.pi / 4, 0, 0),
+                    inertia=sp.eye(3) * sp.EulerGamma)
+    eom = eg.derive(system)
+    q = [0.3]
+    M = [[np.e * np.pi**2 / 16 + float(sp.EulerGamma)]]
+    g = [np.e * float(sp.GoldenRatio) * np.pi / 4 * np.cos(0.3)]
+    module = load(eg.write_module(eom, tmp_path / "consts.py"))
+    for f in (eg.codegen(eom), eg.codegen(eom, backend="c"), module):
+        np.testing.assert_allclose(f.M(q), M, rtol=1e-15)
+        np.testing.assert_allclose(f.g(q), g, rtol=1e-15)
+    c, _ = eg.write_c(eom, tmp_path / "c", name="consts")
+    assert repr(np.pi) in c.read_text() and repr(np.e) in c.read_text()
+    subprocess.run(["cc", "-Wall", "-Werror", "-c", str(c), "-o", str(tmp_path / "consts.o")], check=True)

@@ -102,6 +102,9 @@ def verify(system: System, method: str = "projected_newton_euler", backend: str 
            frames: list[str] | None = None, seed: int = 0) -> Report:
     """Derive, generate and compare M, b, g and the Jacobians and J̇u of `frames` (default: the end
     frames) with Pinocchio at `states` random states."""
+    if not isinstance(system, System):
+        raise ModelError(f"verify: expected a System (it derives the equations itself), "
+                         f"got {type(system).__name__}")
     import pinocchio as pin
 
     model = getattr(system, "pinocchio_model", None) or to_pinocchio(system)

@@ -11,6 +11,7 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
+from ..methods.kane import KaneEquations
 from ..model import FreeFlyer
 from .contacts import contact_dynamics, row_names, support_projector
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
@@ -86,7 +87,7 @@ class NumericEoM:
         self.eom = eom
         self.nq, self.nv = len(eom.q), len(eom.u)
         self.params = sorted(eom.system.parameters, key=str)  # p[k] of the generated code, by name
-        self.parameters = Parameters(self.params)
+        self.parameters = Parameters(self.params, state=[m.current for m in eom.system.motors])
         self.S = np.array(eom.S.tolist(), dtype=float).reshape(-1, self.nv)
         self._writer = writer(eom)
         self.functions: dict[str, Generated] = {}
@@ -129,8 +130,8 @@ class NumericEoM:
         return self.parameters.vector(params, self.functions[key].params_used)
 
     def bind(self, params: Mapping) -> NumericEoM:
-        """The same functions with the parameter values fixed once ({name: value}, every parameter):
-        their calls take no params."""
+        """The same functions with the parameter values fixed once ({name: value}, every parameter but
+        the motor currents, which are state): their calls take no params."""
         return bind(self, params)
 
     def call(self, key: str, q, u=None, ud=None, params=None) -> np.ndarray:
@@ -252,24 +253,24 @@ class NumericEoM:
         return np.linalg.solve(self.M(q, params), self._h(q, u, tau_a, params)[..., None])[..., 0]
 
     # --- DC motors (one state at a time) --------------------------------------------------------
-    def _value(self, expr, params) -> float:
-        by_name = {str(k): v for k, v in dict(params or {}).items()}
-        expr = sp.sympify(expr)
-        missing = [str(s) for s in expr.free_symbols if str(s) not in by_name]
-        if missing:
-            raise ModelError(f"values missing for the parameters {missing}")
-        return float(expr.xreplace({s: by_name[str(s)] for s in expr.free_symbols}))
-
     def motor_rhs(self, t, x, params=None) -> np.ndarray:
         """d/dt [q, u, i] for a system with DC motors (q̇ = u for joints): M u̇ = τ − b − g with the
-        motor torques N k i − N² f q̇, and L di/dt = U − R i − k N q̇ for each motor."""
+        motor torques N k i − N² f q̇, and L di/dt = U − R i − k N q̇ for each motor. The currents i are
+        taken from x (params, or a bind, leaves them out); voltages may depend on q and u."""
         motors = self.eom.system.motors
-        q, u, i = x[:self.nq], x[self.nq:self.nq + self.nv], x[self.nq + self.nv:]
-        p = {**{str(k): v for k, v in dict(params or {}).items()}, **{str(m.current): c for m, c in zip(motors, i)}}
-        di = [(self._value(m.voltage, p) - self._value(m.resistance, p) * c
-               - self._value(m.torque_constant * m.gear_ratio, p) * u[m.body.index]) / self._value(m.inductance, p)
-              for m, c in zip(motors, i)]
-        return np.concatenate([u, self.forward_dynamics(q, u, params=p), di])
+        if not motors:
+            raise ModelError("the system has no motors: add them with System.add_motor")
+        x, n = np.asarray(x, dtype=float), self.nq + self.nv
+        if x.shape != (n + len(motors),):
+            raise ModelError(f"x: expected [q, u, i] of shape ({n + len(motors)},), got shape {x.shape}")
+        q, u, i = x[:self.nq], x[self.nq:n], x[n:]
+        params = self.parameters.with_state(params, {m.current: c for m, c in zip(motors, i)})
+        self._function("motor", lambda: sp.Matrix([
+            [m.voltage - m.torque_constant * m.gear_ratio * self.eom.u[m.body.index], m.resistance,
+             m.inductance] for m in motors]))
+        circuit = self.call("motor", q, u, params=params)  # per motor: U − k N q̇, R, L
+        di = (circuit[:, 0] - circuit[:, 1] * i) / circuit[:, 2]
+        return np.concatenate([u, self.forward_dynamics(q, u, params=params), di])
 
     # --- contacts (one state at a time) --------------------------------------------------------
     def contact_jacobian(self, q, params=None) -> np.ndarray:
@@ -306,18 +307,29 @@ class NumericEoM:
         return N.T @ (self.M(q, params) @ np.asarray(ud, float) - self._h(q, u, tau_a, params))
 
 
+def equations(eom, entry: str, *others: type) -> None:
+    """Refuse, naming `entry`, anything but an `EquationsOfMotion` (or one of `others`)."""
+    if not isinstance(eom, (EquationsOfMotion, *others)):
+        kinds = " or ".join(t.__name__ for t in (EquationsOfMotion, *others))
+        raise ModelError(f"{entry}: expected {kinds}, got {type(eom).__name__} (derive the equations "
+                         "first: eg.derive(system))")
+
+
 def codegen(eom, backend: str = "numpy", params: Mapping | None = None):
     """Numeric functions of an `EquationsOfMotion` (or of `KaneEquations`): backend "numpy", or "c"
     (compiled with the machine's C compiler; same functions, per call and batched). With `params`
-    ({name: value}, every parameter) the values are bound once and the calls take no params."""
+    ({name: value}, every parameter but the motor currents) the values are bound once and the calls
+    take no params."""
+    equations(eom, "codegen", KaneEquations)
     if backend not in BACKENDS:
         raise ModelError(f"unknown backend {backend!r}; available: {list(BACKENDS)}")
+    kane = isinstance(eom, KaneEquations)
     if backend == "c":
         from .c_backend import CompiledEoM
 
-        f = CompiledKane(eom) if hasattr(eom, "independent") else CompiledEoM(eom)
+        f = CompiledKane(eom) if kane else CompiledEoM(eom)
     else:
-        f = NumericKane(eom) if hasattr(eom, "independent") else NumericEoM(eom)
+        f = NumericKane(eom) if kane else NumericEoM(eom)
     return f if params is None else bind(f, params)
 
 

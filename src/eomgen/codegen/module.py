@@ -9,19 +9,20 @@ from pathlib import Path
 
 from .. import __version__
 from ..eom import EquationsOfMotion
-from . import QUANTITIES, NumericEoM, quantities
+from . import QUANTITIES, NumericEoM, equations, quantities
 from .parameters import RUNTIME as PARAMETER_RUNTIME
 from .runtime import RUNTIME
 
 _HELPERS = '''
 _INDEX = {name: k for k, name in enumerate(PARAMETERS)}
+_RULES = {_INDEX[name]: rules for name, rules in ASSUMPTIONS.items()}
 _Error = ValueError
 
 
 def _p(params, used):
-    """The parameter vector: params as a mapping {name: value}, or a sequence in the order of
-    PARAMETERS; only the parameters in `used` must be given."""
-    return _parameter_vector(PARAMETERS, _INDEX, used, params, positional=True)
+    """The parameter vector from params, a mapping {name: value}; only the parameters in `used` must
+    be given, each a finite real number meeting its ASSUMPTIONS."""
+    return _parameter_vector(PARAMETERS, _INDEX, used, params, _RULES)
 
 
 def _frame(frame):
@@ -76,14 +77,16 @@ def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title
         f._function(f"Jdot_u:{k}", lambda frame=frame: eom.kinematics.jacobian_dot_u(frame))
     parts = [f'"""Equations of motion M(q) u̇ + b(q, u) + g(q) = τ(q, u) + Sᵀ τ_a of {title!r}, generated '
              f'by eomgen {__version__} ({eom.method}).\n\nNeeds only numpy. q has shape (NQ,) or (N, NQ), '
-             "u (NV,) or (N, NV).\nParameters: params={name: value} (or a sequence in the order of PARAMETERS); a "
-             "function\nasks only for those it uses.\n\"\"\"",
+             "u (NV,) or (N, NV).\nParameters: params={name: value}, by name only (PARAMETERS); a "
+             "function asks only for\nthose it uses, and a value must meet the parameter's ASSUMPTIONS."
+             "\n\"\"\"",
              "import math\nfrom collections.abc import Mapping\n\nimport numpy\n",
              f"NQ = {f.nq}",
              f"NV = {f.nv}",
              f"COORDINATES = {tuple(str(x) for x in eom.q)!r}",
              f"SPEEDS = {tuple(str(x) for x in eom.u)!r}",
              f"PARAMETERS = {f.parameters.names!r}",
+             f"ASSUMPTIONS = {f.parameters.assumptions!r}  # checked in every call (positive: > 0, ...)",
              f"FRAMES = {tuple(frames)!r}",
              f"ACTUATED = {tuple(j.name for j in eom.system.joints if j.actuated)!r}  # τ_a, a row of S each",
              f"S = numpy.array({f.S.tolist()!r}).reshape(len(ACTUATED), NV)  # selection matrix",
@@ -108,7 +111,9 @@ def write_module(eom: EquationsOfMotion, path, frames: list[str] | None = None,
                  title: str | None = None) -> Path:
     """Write an importable `.py` module that needs only numpy: M, b, g, nle, T, U (those derived), tau
     (the loads), forward_dynamics, jacobian and jacobian_dot_u (for the given frames; default: every
-    moving body and named frame) of `eom`, with PARAMETERS, ACTUATED and the selection matrix S."""
+    moving body and named frame) of `eom`, with PARAMETERS, their ASSUMPTIONS, ACTUATED and the
+    selection matrix S."""
+    equations(eom, "write_module")
     path = Path(path)
     title = title or getattr(eom.system, "name", None) or path.stem
     path.write_text(module_source(eom, frames, title))

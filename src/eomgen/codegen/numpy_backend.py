@@ -84,6 +84,8 @@ class Printer:
             if e.is_Integer:
                 return f"{int(e)}.0" if abs(int(e)) < 2**53 else repr(float(e))
             return repr(float(e))
+        if e.is_NumberSymbol:  # pi, E (exp(1)), GoldenRatio, ...: their float value
+            return repr(float(e))
         if e.is_Add:
             self.ops += len(e.args) - 1
             return "(" + " + ".join(self(a) for a in e.args) + ")"

@@ -3,12 +3,14 @@
 A model's parameters are its free symbols other than q, u and u̇ (masses, lengths, g, ...). Each is
 named by `str(symbol)` and given by that name (or by the symbol itself) in a mapping
 {name: value}: `f.M(q, params={"m_c": 1.0, "l": 0.7})` for the NumPy and C backends, and for a
-written module. Positions are used only where the order is written out: the parameter vector p of
-generated code holds them sorted by name (p[k] is the value of `names[k]`), which a written module
-lists as `PARAMETERS` (there a sequence of that length is also accepted) and a C header as one
-comment per index. A function asks only for the parameters it uses; an unknown name, a missing
-value or a value that is not a finite number is an error naming the parameters. `bind` fixes the
-values once: the bound functions then take no params.
+written module; never by position (a sequence is refused). Positions appear only where generated
+code reads the parameter vector p: it holds them sorted by name (p[k] is the value of `names[k]`),
+which a written module lists as `PARAMETERS` and a C header as one comment per index. A function
+asks only for the parameters it uses; an unknown name, a missing value, a value that is not a finite
+real number (strings and bools included) or one that contradicts the symbol's assumptions (positive,
+negative, nonnegative, nonpositive, nonzero, integer) is an error naming the parameters. `bind`
+fixes the values once: the bound functions then take no params, but for the state parameters (the
+motor currents, which `motor_rhs` takes from its state x).
 
 The vector and the actuator term are computed by one text (`RUNTIME`), run by eomgen and written
 verbatim into generated modules, which need only numpy."""
@@ -24,20 +26,22 @@ import sympy as sp
 from ..errors import ModelError
 
 RUNTIME = '''
-def _parameter_vector(names, index, used, values, positional=False):
-    """p (p[k]: the value of names[k]; index maps a name or symbol to k) from a mapping {name: value},
-    or, with `positional`, a sequence in the order of names; the k outside `used` may be left out (0.0)."""
+_TESTS = {"positive": (lambda x: x > 0.0, "> 0"), "negative": (lambda x: x < 0.0, "< 0"),
+          "nonnegative": (lambda x: x >= 0.0, ">= 0"), "nonpositive": (lambda x: x <= 0.0, "<= 0"),
+          "nonzero": (lambda x: x != 0.0, "nonzero"),
+          "integer": (lambda x: x == math.floor(x), "an integer")}
+
+
+def _parameter_vector(names, index, used, values, rules):
+    """p (p[k]: the value of names[k]; index maps a name or symbol to k) from a mapping {name: value};
+    the k outside `used` may be left out (0.0). rules[k]: the assumptions (_TESTS) p[k] must meet."""
     if values is None:
         values = {}
     if not isinstance(values, Mapping):
-        if not positional or isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
-            raise _Error("params: expected a mapping {name: value}, got %s" % type(values).__name__)
-        if len(values) != len(names):
-            raise _Error("params: expected %d values in the order of PARAMETERS %s, got %d"
-                         % (len(names), list(names), len(values)))
-        values = dict(zip(names, values))
+        raise _Error("params: expected a mapping {name: value} (parameters are given by name only), got %s;"
+                     " the parameters are %s" % (type(values).__name__, list(names)))
     p = [0.0] * len(names)
-    given, unknown, bad = set(), [], []
+    given, unknown, bad, wrong = set(), [], [], []
     for key, value in values.items():
         k = index.get(key)
         if k is None:
@@ -46,11 +50,15 @@ def _parameter_vector(names, index, used, values, positional=False):
                 unknown.append(str(key))
                 continue
         try:
-            p[k] = float(value)
+            p[k] = math.nan if isinstance(value, (str, bytes, bool, numpy.bool_)) else float(value)
         except (TypeError, ValueError):
             p[k] = math.nan
         if not math.isfinite(p[k]):
             bad.append(names[k])
+        elif k in rules:
+            for rule in rules[k]:
+                if not _TESTS[rule][0](p[k]):
+                    wrong.append("%s = %r (must be %s)" % (names[k], p[k], _TESTS[rule][1]))
         given.add(k)
     if unknown:
         raise _Error("params: unknown parameters %s; the parameters are %s" % (unknown, list(names)))
@@ -58,7 +66,10 @@ def _parameter_vector(names, index, used, values, positional=False):
         missing = [names[k] for k in sorted(set(used) - given)]
         raise _Error("params: values missing for the parameters %s" % missing)
     if bad:
-        raise _Error("params: the values of %s are not finite numbers" % bad)
+        raise _Error("params: the values of %s are not finite real numbers (strings and bools are refused)"
+                     % bad)
+    if wrong:
+        raise _Error("params: values contradicting the parameters' assumptions: %s" % "; ".join(wrong))
     return p
 
 
@@ -73,6 +84,14 @@ def _actuated(h, tau_a, S):
     return h + tau_a @ S
 '''
 
+SIGNS = ("positive", "negative", "nonnegative", "nonpositive", "nonzero")  # the strongest first
+
+
+def assumptions(symbol: sp.Symbol) -> tuple[str, ...]:
+    """The assumptions of `symbol` a value is checked against: its strongest sign rule, and integer."""
+    sign = next((a for a in SIGNS if getattr(symbol, f"is_{a}")), None)
+    return tuple(a for a in (sign, "integer" if symbol.is_integer else None) if a)
+
 
 def _namespace() -> dict:
     namespace = {"math": math, "numpy": np, "Mapping": Mapping, "_Error": ModelError}
@@ -85,11 +104,12 @@ parameter_vector, actuated = _runtime["_parameter_vector"], _runtime["_actuated"
 
 
 class Parameters:
-    """The parameters of a model sorted by name: `names[k]` is p[k] of the generated code."""
+    """The parameters of a model sorted by name: `names[k]` is p[k] of the generated code. The `state`
+    ones (motor currents) are part of the state: `bind` leaves them to each call."""
 
-    values: np.ndarray | None = None  # p, once bound
+    values: np.ndarray | None = None  # p, once every parameter is bound
 
-    def __init__(self, symbols: Iterable[sp.Symbol]) -> None:
+    def __init__(self, symbols: Iterable[sp.Symbol], state: Iterable[sp.Symbol] = ()) -> None:
         self.symbols = sorted(symbols, key=str)
         self.names = tuple(str(s) for s in self.symbols)
         twice = sorted({n for n in self.names if self.names.count(n) > 1})
@@ -98,37 +118,66 @@ class Parameters:
                              "parameters are given by name, so their names must differ")
         self.index = {**{n: k for k, n in enumerate(self.names)},
                       **{s: k for k, s in enumerate(self.symbols)}}  # by name or by symbol
+        self.assumptions = {str(s): a for s in self.symbols if (a := assumptions(s))}
+        self.rules = {self.index[n]: a for n, a in self.assumptions.items()}  # by position, for each call
+        self.state = frozenset(self.index[s] for s in state if s in self.index)
 
     def vector(self, values: Mapping | None, used: Iterable[int]) -> list[float]:
         """p from {name or symbol: value}; only the k in `used` must be given (the others are 0.0)."""
-        return parameter_vector(self.names, self.index, used, values)
+        return parameter_vector(self.names, self.index, used, values, self.rules)
+
+    def _named(self, values: Mapping | None, state: bool) -> list[str]:
+        """The names of the state (or, with state False, the other) parameters `values` gives."""
+        found = (self.index.get(key, self.index.get(str(key))) for key in values or {})
+        return sorted(self.names[k] for k in found if k is not None and (k in self.state) == state)
+
+    def with_state(self, values: Mapping | None, state: Mapping[sp.Symbol, float]) -> dict:
+        """`values` and the values of the state parameters (motor currents, from x), which `values`
+        may not give."""
+        if values is not None and not isinstance(values, Mapping):
+            self.vector(values, ())  # refused as in every call
+        if named := self._named(values, state=True):
+            raise ModelError(f"params: {named} are motor currents, taken from the state x: leave them out")
+        return {**(values or {}), **{s: v for s, v in state.items() if s in self.index}}
 
     def bind(self, values: Mapping) -> BoundParameters:
-        """The same parameters with every value fixed."""
-        return BoundParameters(self, self.vector(values, range(len(self.names))))
+        """The same parameters with every value but the state ones fixed."""
+        if isinstance(values, Mapping) and (named := self._named(values, state=True)):
+            raise ModelError(f"bind: {named} are motor currents, part of the state: give them per call "
+                             "(motor_rhs takes them from x), not to bind")
+        return BoundParameters(self, self.vector(values, set(range(len(self.names))) - self.state))
 
 
 class BoundParameters(Parameters):
-    """Parameters whose values are fixed: `vector` returns them and refuses new ones."""
+    """Parameters whose values are fixed: `vector` returns them, with the state parameters (motor
+    currents) given in each call; it refuses the others."""
 
     def __init__(self, parameters: Parameters, p: list[float]) -> None:
-        self.symbols, self.names, self.index = parameters.symbols, parameters.names, parameters.index
-        self.values = np.array(p, dtype=float)
-        self.values.flags.writeable = False
+        vars(self).update(vars(parameters))  # names, index, rules, state
+        self.unbound = parameters
+        self.bound = np.array(p, dtype=float)
+        self.bound.flags.writeable = False
+        self.values = None if self.state else self.bound  # the C backend passes `values` as they are
+        self._from_call = np.isin(np.arange(len(self.names)), list(self.state))
 
     def vector(self, values: Mapping | None, used: Iterable[int]) -> np.ndarray:
-        if values is not None:
+        if values is not None and (not isinstance(values, Mapping) or self._named(values, state=False)):
             raise ModelError("params: these functions have their parameter values bound (bind or "
-                             "codegen(params=...)); call them without params, or bind new values")
-        return self.values
+                             "codegen(params=...)); call them without params (but for motor currents), "
+                             "or bind new values")
+        needed = self.state.intersection(used)
+        if values is None and not needed:
+            return self.bound
+        return np.where(self._from_call, self.unbound.vector(values, needed), self.bound)
 
     def bind(self, values: Mapping) -> BoundParameters:
-        return Parameters(self.symbols).bind(values)
+        return self.unbound.bind(values)
 
 
 def bind(functions, values: Mapping):
     """A copy of numeric `functions` whose calls take no params: the values are fixed once (every
-    parameter, by name; see the module doc). The copy shares the generated functions."""
+    parameter but the motor currents, by name; see the module doc). The copy shares the generated
+    functions."""
     bound = copy.copy(functions)
     bound.parameters = functions.parameters.bind(values)
     return bound

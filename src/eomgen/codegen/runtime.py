@@ -37,19 +37,28 @@ class _Scalar:
 
 def _inputs(nq, nv, q, u=None, ud=None):
     """q, u, u̇ as float arrays (one state or N along axis 0), checked; and the batch shape."""
-    q = numpy.asarray(q, dtype=float)
+    def numbers(name, x):
+        try:
+            a = numpy.asarray(x)
+            if a.dtype.kind in "fiuO":  # not strings, bools or complex numbers
+                return a.astype(float, copy=False)
+        except (TypeError, ValueError):
+            pass
+        raise _Error("%s: expected real numbers, got %s" % (name, type(x).__name__))
+
+    q = numbers("q", q)
     if q.ndim not in (1, 2) or q.shape[-1] != nq:
-        raise ValueError("q: expected shape (%d,) or (N, %d), got %s" % (nq, nq, q.shape))
+        raise _Error("q: expected shape (%d,) or (N, %d), got %s" % (nq, nq, q.shape))
     batch = q.shape[:-1]
     args = [q]
     for name, x in (("u", u), ("ud", ud)):
-        x = numpy.zeros(batch + (nv,)) if x is None else numpy.asarray(x, dtype=float)
+        x = numpy.zeros(batch + (nv,)) if x is None else numbers(name, x)
         if x.shape != batch + (nv,):
-            raise ValueError("%s: expected shape %s, got %s" % (name, batch + (nv,), x.shape))
+            raise _Error("%s: expected shape %s, got %s" % (name, batch + (nv,), x.shape))
         args.append(x)
     for name, x in zip(("q", "u", "ud"), args):
-        if not numpy.all(numpy.isfinite(x)):
-            raise ValueError(name + ": contains NaN or infinite values")
+        if not numpy.isfinite(x).all():
+            raise _Error(name + ": contains NaN or infinite values")
     return args, batch
 
 
@@ -72,12 +81,15 @@ def _call(f, shape, nq, nv, q, u=None, ud=None, p=()):
 
 
 def runtime_namespace() -> dict:
-    """A namespace holding `_Scalar`, `_inputs` and `_call`, as a generated module has them."""
+    """A namespace holding `_Scalar`, `_inputs` and `_call`, as a generated module has them (errors:
+    ModelError, where a module raises ValueError)."""
     import math
 
     import numpy
 
-    namespace = {"math": math, "numpy": numpy}
+    from ..errors import ModelError
+
+    namespace = {"math": math, "numpy": numpy, "_Error": ModelError}
     exec(RUNTIME, namespace)  # eomgen's own fixed text
     return namespace
 
