@@ -242,3 +242,19 @@ def test_values_too_large_for_float64_products():
     with pytest.raises(eg.ModelError, match="body 'a': mass: 1e\\+300 is too large"):
         eg.System().add_body("a", joint=eg.Revolute("q"), mass=1e300)
     eg.System().add_body("a", joint=eg.Revolute("q"), mass=1e150)
+
+
+def test_entry_points_name_their_arguments():
+    s = _arm(("q1", "q2", "q3"))
+    with pytest.raises(eg.ModelError, match="reduced: lock must be a dict"):
+        s.reduced(lock=["q1"])
+    with pytest.raises(eg.ModelError, match="random_states: n must be a non-negative integer"):
+        eg.random_states(s, -1, np.random.default_rng(0))
+    with pytest.raises(eg.ModelError, match="write_c: expected EquationsOfMotion"):
+        eg.write_c(s, "/tmp/never")
+
+
+def test_verify_a_one_joint_robot():
+    s = eg.System()
+    s.add_body("a", joint=eg.Revolute("q1", axis=(0, 1, 0)), mass=1, com=(0.3, 0, 0.1), inertia=np.eye(3) * 0.1)
+    assert verify(s, states=3).ok(1e-10)

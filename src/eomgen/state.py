@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from .errors import ModelError
 from .model import FreeFlyer, Revolute, System
 
 
 def random_states(system: System, n: int, rng) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """n states (q, u, u̇): revolute angles in [−π, π], prismatic in [−0.5, 0.5], a free-flyer base in
     [−1, 1]³ with a uniformly random orientation (Euler base: pitch within ±0.45 π), u and u̇ in [−2, 2]."""
+    if not isinstance(n, int) or isinstance(n, bool) or n < 0:
+        raise ModelError(f"random_states: n must be a non-negative integer, got {n!r}")
     parts = []
     for j in system.joints:
         if isinstance(j, FreeFlyer) and j.parametrization == "euler":

@@ -121,6 +121,7 @@ def verify(system: System, method: str = "projected_newton_euler", backend: str 
     LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
     def record(key, ours, ref):
+        ref = np.reshape(ref, np.shape(ours))  # Pinocchio returns a 6 × 1 matrix as a flat array
         a = float(np.abs(ours - ref).max())
         r = a / max(1.0, float(np.abs(ref).max()))
         old = report.errors.get(key, (0.0, 0.0))
@@ -141,5 +142,5 @@ def verify(system: System, method: str = "projected_newton_euler", backend: str 
             fid = model.getFrameId(name)
             record(f"J {name}", f.jacobian(name, qk), pin.getFrameJacobian(model, data, fid, LWA))
             record(f"Jdot_u {name}", f.jacobian_dot_u(name, qk, uk),
-                   pin.getFrameJacobianTimeVariation(model, data, fid, LWA) @ uk)
+                   np.reshape(pin.getFrameJacobianTimeVariation(model, data, fid, LWA), (6, -1)) @ uk)
     return report

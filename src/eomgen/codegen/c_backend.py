@@ -11,7 +11,7 @@ import numpy as np
 from .. import __version__
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
-from . import QUANTITIES, Generated, NumericEoM, expression, quantities, reads, writer
+from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer
 from .extension import build, compiler, python_headers
 from .numpy_backend import C, C_TRIG
 
@@ -98,6 +98,7 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
     frames of derive(frames=...), else all), each f(q, u, ud, p, out). The header documents the
     inputs index by index (p[k]: the parameters sorted by name), and per function its output
     (row-major, zeroed by the caller) and the entries of q, u, ud, p it reads."""
+    equations(eom, "write_c")
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,63}", name):
         raise ModelError(f"write_c: name must be a C identifier, got {name!r}")
     directory = Path(directory)

@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import ModelError
 from . import Generated, NumericEoM
-from .parameters import Parameters
 from .c_backend import CompiledEoM, extension_functions
 from .extension import compiler, python_headers
 from .numpy_backend import C_TRIG, PYTHON, FunctionWriter, compile_function
+from .parameters import Parameters
 from .runtime import runtime_namespace
 
 _call = runtime_namespace()["_call"]
@@ -62,7 +63,7 @@ class NumericKane:
         q, w_ind = np.asarray(q, dtype=float), np.asarray(w_ind, dtype=float)
         batch, n, p = q.shape[:-1], self.n, self.nv
         if w_ind.shape != batch + (p,):
-            raise ValueError(f"w: expected shape {batch + (p,)} (the independent speeds), got {w_ind.shape}")
+            raise ModelError(f"w: expected shape {batch + (p,)} (the independent speeds), got {w_ind.shape}")
         w, T = np.zeros(batch + (n,)), np.zeros(batch + (n, p))
         w[..., self._ind] = w_ind
         T[..., self._ind, np.arange(p)] = 1.0

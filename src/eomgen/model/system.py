@@ -389,6 +389,8 @@ class System:
     def reduced(self, lock: dict) -> "System":
         """A copy with the joints in `lock` (joint name → value) welded at those values: the joint's
         motion becomes part of the body's placement (as Pinocchio's buildReducedModel does)."""
+        if not isinstance(lock, dict):
+            raise ModelError(f"reduced: lock must be a dict {{joint name: value}}, got {type(lock).__name__}")
         names = {j.name for j in self.joints}
         unknown = sorted(set(lock) - names)
         if unknown:
