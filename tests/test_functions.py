@@ -126,8 +126,8 @@ def test_write_c_and_module(tmp_path):
         close = dict(rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(np.array(out.split(), float).reshape(-1, 6), expected, **close)
         for k, f in enumerate(frames):
-            np.testing.assert_allclose(module.jacobian(f, [x], [value])[:, 0], expected[k], **close)
-            batch = module.jacobian(f, [[x], [x]], [value])
+            np.testing.assert_allclose(module.jacobian(f, [x], {"s": value})[:, 0], expected[k], **close)
+            batch = module.jacobian(f, [[x], [x]], {"s": value})
             np.testing.assert_allclose(batch[1, :, 0], expected[k], **close)
 
 
