@@ -106,11 +106,31 @@ def test_a_file_as_cache_is_a_clear_error(tmp_path, monkeypatch):
     _unusable(monkeypatch, tmp_path / "file" / "cache", "cannot be created: Not a directory")
 
 
-@pytest.mark.skipif(os.name != "posix" or os.geteuid() == 0, reason="root writes into read-only folders")
 def test_a_read_only_cache_is_a_clear_error(tmp_path, monkeypatch):
-    (tmp_path / "ro").mkdir(mode=0o500)
-    _unusable(monkeypatch, tmp_path / "ro", "is not writable")
-    _unusable(monkeypatch, tmp_path / "ro" / "cache", "cannot be created: Permission denied")
+    """A read-only folder, and a folder that cannot be made in one. Root writes into read-only folders
+    (and this machine's Python is not reachable by another user), so as root the operating system's
+    refusals are stood in for: os.access says no, mkdir raises PermissionError."""
+    ro = tmp_path / "ro"
+    ro.mkdir(mode=0o500)
+    if os.geteuid() == 0:
+        from eomgen.codegen import extension
+
+        access = os.access
+        monkeypatch.setattr(extension.os, "access",
+                            lambda path, mode: Path(path) != ro and access(path, mode))
+        _unusable(monkeypatch, ro, "is not writable")
+        monkeypatch.undo()
+
+        mkdir = Path.mkdir
+
+        def refuse(self, *args, **kwargs):
+            if self.parent == ro:
+                raise PermissionError(13, "Permission denied")
+            return mkdir(self, *args, **kwargs)
+        monkeypatch.setattr(Path, "mkdir", refuse)
+    else:
+        _unusable(monkeypatch, ro, "is not writable")
+    _unusable(monkeypatch, ro / "cache", "cannot be created: Permission denied")
 
 
 @pytest.mark.skipif(os.name != "posix", reason="POSIX modes")
