@@ -258,3 +258,15 @@ def test_verify_a_one_joint_robot():
     s = eg.System()
     s.add_body("a", joint=eg.Revolute("q1", axis=(0, 1, 0)), mass=1, com=(0.3, 0, 0.1), inertia=np.eye(3) * 0.1)
     assert verify(s, states=3).ok(1e-10)
+
+
+def test_spring_rest_length_zero_as_a_float():
+    """rest_length=0.0 is sympy's Float(0), which is not == 0: it must still be the zero-length spring
+    (F = −k d, no 0/0 when its ends meet), found by the property run."""
+    s = eg.System(gravity=(0, 0, 0))
+    s.add_body("a", joint=eg.Revolute("q1"), mass=1, com=(1, 0, 0))
+    s.add_spring(("a", (0.5, 0.2, 0)), ("a", (0.5, 0.2, 0)), 1.1, rest_length=0.0)
+    s.add_spring(("a", (1, 0, 0)), (None, (0, 1, 0)), 2.0, rest_length=0.0, name="to world")
+    f = eg.codegen(eg.derive(s))
+    for q in (0.0, 0.7, np.pi / 2):  # tip r = (cos q, sin q), F = −k (r − e_y): τ = (r × F)_z = k cos q
+        np.testing.assert_allclose(f.tau([q], [0.0]), [2.0 * np.cos(q)], atol=1e-15)

@@ -28,13 +28,14 @@ def applied_wrenches(kin: Kinematics, load) -> list[tuple[Point, sp.Matrix, sp.M
     a, b = load.a, load.b
     d = kin.sub.add_matrix(kin.position(a) - kin.position(b))
     length = sp.sqrt((d.T * d)[0])
-    if not (isinstance(load, Spring) and load.rest_length == 0) and not getattr(load, "force", True) is None:
+    zero_length_spring = isinstance(load, Spring) and load.rest_length.is_zero  # F = −k d: no direction
+    if not zero_length_spring and getattr(load, "force", True) is not None:
         _check_line(kin, load.name, d)
     if isinstance(load, Actuator):
         T = zero if load.torque is None else world(kin, load.torque, a.body, load.in_body_frame)
         F = zero if load.force is None else load.force * d / length
     elif isinstance(load, Spring):
-        F = -load.stiffness * (d if load.rest_length == 0 else (length - load.rest_length) / length * d)
+        F = -load.stiffness * (d if load.rest_length.is_zero else (length - load.rest_length) / length * d)
         T = zero
     elif isinstance(load, Damper):
         n_ab = d / length
@@ -62,7 +63,7 @@ def _check_line(kin: Kinematics, name: str, d: sp.Matrix) -> None:
 def spring_potential(kin: Kinematics, spring: Spring) -> sp.Expr:
     """U = ½ k (‖r_a − r_b‖ − l0)²."""
     d = kin.position(spring.a) - kin.position(spring.b)
-    if spring.rest_length == 0:
+    if spring.rest_length.is_zero:
         return spring.stiffness * (d.T * d)[0] / 2
     return spring.stiffness * (sp.sqrt((d.T * d)[0]) - spring.rest_length) ** 2 / 2
 
