@@ -1,4 +1,4 @@
-"""The lecture's cart-pendulum (SEEDS.md §1): a cart (mass m_c, coordinate x) carrying a pendulum
+"""The textbook cart-pendulum: a cart (mass m_c, coordinate x) carrying a pendulum
 (point mass m_p at distance l, angle φ from the downward vertical), derived by the three methods
 (Newton-Euler with a free cut, projected Newton-Euler, Lagrange II), the free cut's equation count
 and rod force, then the generalized forces of a motor, a cart force and a spring.

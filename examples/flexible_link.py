@@ -1,4 +1,5 @@
-"""The single flexible link of the finite-element paper (SEEDS.md §4): one Euler-Bernoulli element,
+"""The single flexible link of the finite-element paper "Dynamic modeling and path planning of flexible-link
+manipulators": one Euler-Bernoulli element,
 q = [θ, u₃, u₄] (joint angle, tip deflection and slope), m = 5 kg over L = 1 m, gravity 9.81, derived
 by Lagrange II without linearization; then a free swing from the horizontal, plotted to PNG.
 

@@ -1,4 +1,4 @@
-"""Nonholonomic systems with Kane's method (SEEDS.md §2): the skate, a particle with a velocity
+"""Nonholonomic systems with Kane's method: the skate, a particle with a velocity
 constraint, and the rolling disk; p equations for p independent speeds, no multipliers.
 
 Run: python examples/nonholonomic.py"""

@@ -1,4 +1,4 @@
-"""solo12 standing on its four feet (SEEDS.md §1, floating base and contacts).
+"""solo12 standing on its four feet (floating base and contacts).
 
 1. Joint torques that hold it still, the contact forces under gravity (they carry its weight).
 2. The support-consistent dynamics: N_cᵀ (M u̇ + b + g) = N_cᵀ Sᵀ τ, and J_c N_c = 0.

@@ -1,4 +1,4 @@
-"""SEEDS.md §1: the cart-pendulum closed form and the generalized forces of its loads."""
+"""The cart-pendulum closed form and the generalized forces of its loads."""
 import pytest
 import sympy as sp
 

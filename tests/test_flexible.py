@@ -1,4 +1,4 @@
-"""Flexible links by finite elements (SEEDS.md §4): element matrices, cantilever frequencies against
+"""Flexible links by finite elements: element matrices, cantilever frequencies against
 Euler-Bernoulli theory, the rigid limit, a mixed flexible-rigid chain, and energy in free vibration."""
 import sys
 from pathlib import Path

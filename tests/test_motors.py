@@ -1,4 +1,4 @@
-"""DC motors on the two-link arm of SEEDS.md §3: closed forms, reflected inertia as Pinocchio's
+"""DC motors on the two-link arm of the bond-graph paper: closed forms, reflected inertia as Pinocchio's
 armature, and the power balance of a simulated voltage step."""
 import sys
 from pathlib import Path

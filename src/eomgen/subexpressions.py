@@ -12,6 +12,8 @@ intermediates once each.
 """
 from __future__ import annotations
 
+import math
+import random
 from collections.abc import Iterable, Mapping
 
 import sympy as sp
@@ -34,6 +36,15 @@ _RULES = {sp.sin: lambda a, f: sp.cos(a), sp.cos: lambda a, f: -sp.sin(a), sp.ta
           sp.acos: lambda a, f: -1 / sp.sqrt(1 - a**2), sp.atan: lambda a, f: 1 / (1 + a**2),
           sp.sinh: lambda a, f: sp.cosh(a), sp.cosh: lambda a, f: sp.sinh(a), sp.tanh: lambda a, f: 1 - f**2,
           sp.Abs: lambda a, f: sp.sign(a)}
+
+
+def samples(q: Iterable[sp.Symbol], parameters: Iterable[sp.Symbol], count: int) -> list[dict]:
+    """`count` random points for `Subexpressions.evaluate` (seeded): q uniform in [−π, π], parameters in
+    [0.5, 1.5]."""
+    rng = random.Random(0)
+    q, parameters = list(q), sorted(parameters, key=str)
+    return [{**{s: rng.uniform(-math.pi, math.pi) for s in q},
+             **{s: rng.uniform(0.5, 1.5) for s in parameters}} for _ in range(count)]
 
 
 class Subexpressions:

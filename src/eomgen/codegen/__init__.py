@@ -16,7 +16,7 @@ from ..model import FreeFlyer
 from .contacts import contact_dynamics, row_names, support_projector
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
-from .runtime import runtime_namespace
+from .runtime import mpmath_functions, runtime_namespace
 
 _runtime = runtime_namespace()
 _call, _inputs = _runtime["_call"], _runtime["_inputs"]
@@ -67,7 +67,7 @@ def expression(eom: EquationsOfMotion, key: str) -> sp.Basic:
 def writer(eom: EquationsOfMotion, syntax: Syntax = PYTHON) -> FunctionWriter:
     """A function writer over the equations' intermediates, inputs q, u, u̇ and the parameters."""
     return FunctionWriter(eom.subexpressions, {"q": list(eom.q), "u": list(eom.u), "ud": list(eom.system.ud),
-                                               "p": sorted(eom.system.parameters, key=str)}, syntax)
+                                               "p": Parameters(eom.system.parameters).symbols}, syntax)
 
 
 def eager(eom: EquationsOfMotion) -> list[str]:
@@ -86,8 +86,8 @@ class NumericEoM:
     def __init__(self, eom: EquationsOfMotion) -> None:
         self.eom = eom
         self.nq, self.nv = len(eom.q), len(eom.u)
-        self.params = sorted(eom.system.parameters, key=str)  # p[k] of the generated code, by name
-        self.parameters = Parameters(self.params, state=[m.current for m in eom.system.motors])
+        self.parameters = Parameters(eom.system.parameters, state=[m.current for m in eom.system.motors])
+        self.params = self.parameters.symbols  # p[k] of the generated code, sorted by name
         self.S = np.array(eom.S.tolist(), dtype=float).reshape(-1, self.nv)
         self._writer = writer(eom)
         self.functions: dict[str, Generated] = {}
@@ -146,8 +146,6 @@ class NumericEoM:
         state; the constants are the float64 numbers of the model): the high-precision reference for
         measuring float64 round-off."""
         import mpmath
-
-        from .runtime import mpmath_functions
 
         if key not in self.functions:
             self._on_demand(key)

@@ -14,6 +14,7 @@ from ..errors import ModelError
 from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer
 from .extension import build, compiler, python_headers
 from .numpy_backend import C, C_TRIG
+from .parameters import Parameters
 
 
 class CompiledEoM(NumericEoM):
@@ -48,9 +49,8 @@ class CompiledEoM(NumericEoM):
 
     def _pvec(self, params, key) -> list[float] | np.ndarray | None:
         """p as the extension reads it: the bound values, else those `key` uses (the others 0.0)."""
-        bound = getattr(self, "parameters", None)  # a CompiledKane makes its own on first use
-        if params is None and bound is not None and bound.values is not None:
-            return bound.values
+        if params is None and self.parameters.values is not None:
+            return self.parameters.values
         return self._p(params, key) if self.params else None
 
     def _get(self, key: str) -> Generated:
@@ -126,7 +126,7 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
 
 def header(eom: EquationsOfMotion, name: str) -> str:
     """The header's guard, sizes and the inputs' documentation, index by index."""
-    params = sorted(eom.system.parameters, key=str)
+    params = Parameters(eom.system.parameters).symbols
     actuated = [j for j in eom.system.joints if j.actuated]
     N = name.upper()
     lines = [f"#ifndef EOMGEN_{N}_H", f"#define EOMGEN_{N}_H",

@@ -31,8 +31,8 @@ class NumericKane:
         self.kane = kane
         self.n = len(kane.speeds)
         self.nq, self.nv = self.n, len(kane.independent)
-        self.params = sorted(kane.parameters, key=str)
-        self.parameters = Parameters(self.params)
+        self.parameters = Parameters(kane.parameters)
+        self.params = self.parameters.symbols  # p[k] of the generated code, sorted by name
         self._dep, self._ind = kane._indices()
         w_inputs = [] if kane.speeds_are_qdot else list(kane.speeds)  # else w is q̇ itself
         writer = FunctionWriter(kane.subexpressions, {"q": list(kane.system.q), "u": list(kane.system.u),

@@ -1,6 +1,11 @@
 """The runtime of generated code: one text, executed by eomgen for in-memory functions and written
 verbatim into generated modules (which need only numpy); and the mpmath functions of the reference."""
+import math
 from functools import cache
+
+import numpy
+
+from ..errors import ModelError
 
 RUNTIME = '''
 class _Scalar:
@@ -83,12 +88,6 @@ def _call(f, shape, nq, nv, q, u=None, ud=None, p=()):
 def runtime_namespace() -> dict:
     """A namespace holding `_Scalar`, `_inputs` and `_call`, as a generated module has them (errors:
     ModelError, where a module raises ValueError)."""
-    import math
-
-    import numpy
-
-    from ..errors import ModelError
-
     namespace = {"math": math, "numpy": numpy, "_Error": ModelError}
     exec(RUNTIME, namespace)  # eomgen's own fixed text
     return namespace

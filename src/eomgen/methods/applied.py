@@ -3,14 +3,13 @@ reaction included. Projected Newton-Euler projects them with Jacobians, the free
 body balances; Lagrange II works from energy and power instead."""
 from __future__ import annotations
 
-import random
-
 import sympy as sp
 
 from ..errors import ModelError
 from ..kinematics import Kinematics
 from ..linalg import dot, matmul, mul
 from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
+from ..subexpressions import samples
 
 
 def world(kin: Kinematics, vector: sp.Matrix, body, in_body_frame: bool) -> sp.Matrix:
@@ -48,13 +47,9 @@ def applied_wrenches(kin: Kinematics, load) -> list[tuple[Point, sp.Matrix, sp.M
 
 def _check_line(kin: Kinematics, name: str, d: sp.Matrix) -> None:
     """Refuse a load along the line between two points that coincide at every state (d/|d| = 0/0),
-    judged at random states and parameter values."""
-    closed = kin.sub.inline(d)
-    symbols = sorted(closed.free_symbols, key=str)
-    rng = random.Random(0)
-    for _ in range(3):
-        values = {s: sp.Float(rng.uniform(0.5, 1.5)) for s in symbols}
-        if any(abs(complex(x.xreplace(values).evalf())) > 1e-12 for x in closed):
+    judged at random states (`subexpressions.samples`)."""
+    for values in samples(kin.q, kin.system.parameters, 3):
+        if any(abs(x) > 1e-12 for x in kin.sub.evaluate(list(d), values)):
             return
     raise ModelError(f"load '{name}': its two points coincide at every state, so the line it acts along is "
                      "undefined; attach its ends at distinct points")

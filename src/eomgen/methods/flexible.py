@@ -1,6 +1,7 @@
 """Euler-Bernoulli beam elements with Hermite cubic shape functions, for flexible links in Lagrange II
-(SEEDS.md §4). A point x of the link is at r(x) = p + R (x e_x + y(x) e_y), y = Σ N_k(ξ) d_k on each
-element of length h (ξ = x − x_e), d its nodal deflections and slopes. Then
+(after the paper "Dynamic modeling and path planning of flexible-link manipulators"). A point x of the
+link is at r(x) = p + R (x e_x + y(x) e_y), y = Σ N_k(ξ) d_k on each element of length h
+(ξ = x − x_e), d its nodal deflections and slopes. Then
 
     T = ½ ∫ m |ṙ|² dx,   U_g = −∫ m g⃗ · r dx,   U_e = ½ Σ_e d_eᵀ K_e d_e,
     K_e = (E I / h³) [[12, 6h, −12, 6h], [6h, 4h², −6h, 2h²], [−12, −6h, 12, −6h], [6h, 2h², −6h, 4h²]],

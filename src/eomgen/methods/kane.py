@@ -1,4 +1,4 @@
-"""Kane's equations with generalized speeds and nonholonomic constraints (SEEDS.md §2).
+"""Kane's equations with generalized speeds and nonholonomic constraints.
 
 The generalized speeds w are defined by kinematic equations linear in q̇ and w, and split by velocity
 constraints linear in w into p independent and m dependent ones:
@@ -30,6 +30,7 @@ from ..kinematics import Kinematics
 from ..model import FlexibleLink, FreeFlyer
 from ..model.system import System
 from ..model.values import scalar
+from ..subexpressions import samples
 from ..symbols import Generated
 from . import projected_newton_euler
 
@@ -208,11 +209,9 @@ def _expressions(system: System, exprs, what: str, speeds: list) -> list[sp.Expr
 
 
 def _check_invertible(sub, matrices: dict[str, sp.Matrix], q: list, params: list) -> None:
-    """cond(A) at SAMPLES random states (q uniform in [−π, π], parameters in [0.5, 1.5]) for each named
-    square matrix A in q; ModelError if it is singular (cond > COND_LIMIT or not finite) at all of them."""
-    rng = np.random.default_rng(0)
-    states = [{**dict(zip(q, rng.uniform(-np.pi, np.pi, len(q)))),
-               **dict(zip(params, rng.uniform(0.5, 1.5, len(params))))} for _ in range(SAMPLES)]
+    """cond(A) at SAMPLES random states (`subexpressions.samples`) for each named square matrix A in q;
+    ModelError if it is singular (cond > COND_LIMIT or not finite) at all of them."""
+    states = samples(q, params, SAMPLES)
     for what, A in matrices.items():
         if A.rows == 0:
             continue
@@ -264,7 +263,8 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
         raise ModelError(f"kane: independent speeds {unknown} are not among the speeds {speeds}")
     dependent = [s for s in speeds if s not in independent]
     if len(dependent) != len(nonholonomic):
-        raise ModelError(f"kane: {len(nonholonomic)} constraints need as many dependent speeds, got {dependent}")
+        raise ModelError(f"kane: {len(nonholonomic)} constraints need as many dependent speeds, "
+                         f"got {dependent}")
     C, c0 = _linear(nonholonomic, speeds, "nonholonomic constraint") if nonholonomic else (
         sp.zeros(0, n), sp.zeros(0, 1))
     for i, e in enumerate(nonholonomic):
@@ -283,7 +283,7 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     Yn = sub.add_matrix(Y)
     _check_invertible(sub, {"the constraints' matrix of the dependent speeds C_dep": Cd,
                             "the speed map (∂ kinematic equations / ∂q̇) Y": Yn},
-                      q, sorted(parameters, key=str))
+                      q, parameters)
     rates = kin.time_derivative(sp.Matrix([*kinematic_equations, *nonholonomic]))  # ∂/∂q · q̇ (q̈, ẇ = 0)
     gravity = -eom.compact["g"]
     compact = {"M": eom.compact["M"],
