@@ -1,6 +1,7 @@
 """The planar two-link arm of the paper "Bond Graph Modeling of a Robot Manipulator", each joint
 driven by a DC motor through a gear: M, C q̇ and G in closed form, the reflected rotor inertia N² J_m on
-M's diagonal, and a simulated voltage step with its power balance U i = d/dt (T + U_g + ½ L i²) + R i² + f (N q̇)².
+M's diagonal, and a simulated voltage step with its power balance
+U i = d/dt (T + U_g + ½ L i²) + R i² + f (N q̇)².
 
 Run: python examples/two_link_dc_motors.py"""
 import numpy as np
