@@ -10,10 +10,11 @@ from .methods import derive
 from .methods.kane import KaneEquations, kane
 from .model import Fixed, FlexibleLink, FreeFlyer, Placement, Prismatic, Revolute, System, from_urdf, robots
 from .simplification import simplified
+from .worked import Solution, Step, solution
 from .state import integrate, random_states
 from .tradeoff import tradeoff
 from .verify import verify
 
 __all__ = ["EquationsOfMotion", "KaneEquations", "Fixed", "FlexibleLink", "FreeFlyer", "Kinematics", "ModelError", "Placement", "Prismatic",
-           "Revolute", "System", "codegen", "derive", "from_urdf", "integrate", "kane", "random_states", "robots", "simplified", "tradeoff",
+           "Revolute", "System", "codegen", "derive", "from_urdf", "integrate", "kane", "random_states", "robots", "simplified", "Solution", "Step", "solution", "tradeoff",
            "verify", "write_c", "write_module"]

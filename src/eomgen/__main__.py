@@ -1,5 +1,5 @@
 """Command line: `eomgen verify NAME_OR_URDF`, `eomgen generate NAME_OR_URDF -o FILE.py` (or `-o DIR --c`),
-`eomgen tradeoff NAME_OR_URDF [--png FILE]`."""
+`eomgen tradeoff NAME_OR_URDF [--png FILE]`, `eomgen solve FILE.py -o solution.tex|.md|.pdf`."""
 from __future__ import annotations
 
 import argparse
@@ -20,6 +20,30 @@ def load(name_or_urdf: str) -> System:
     if name_or_urdf.endswith(".urdf") or Path(name_or_urdf).exists():
         return from_urdf(name_or_urdf)
     raise ModelError(f"{name_or_urdf!r} is neither a robot name ({', '.join(robots.names())}) nor a URDF file")
+
+
+def solve(args) -> int:
+    """`eomgen solve FILE.py -o OUT`: the worked solution as LaTeX, Markdown or PDF (by OUT's suffix)."""
+    import runpy
+
+    from .worked import solution
+
+    suffix = Path(args.output).suffix
+    if suffix not in (".tex", ".md", ".pdf"):
+        raise ModelError(f"solve: the output must end in .tex, .md or .pdf, not {args.output!r}")
+    if not Path(args.file).is_file():
+        raise ModelError(f"solve: no such file {args.file!r}")
+    namespace = runpy.run_path(args.file)
+    if "system" not in namespace:
+        raise ModelError(f"solve: {args.file} must define `system` (an eomgen.System or KaneEquations)")
+    methods = [m for m in args.methods.split(",") if m]
+    result = solution(namespace["system"], methods=methods, form=args.form, title=args.title)
+    if suffix == ".pdf":
+        result.pdf(args.output, digits=args.digits)
+    else:
+        (result.latex if suffix == ".tex" else result.markdown)(args.output, digits=args.digits)
+    print(f"wrote {args.output} ({len(result.steps)} steps)")
+    return 0
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -44,8 +68,18 @@ def main(argv: list[str] | None = None) -> int:
     gen.add_argument("--method", default="recursive", choices=sorted(METHODS))
     gen.add_argument("--c", action="store_true", help="write <name>.c and <name>.h (M, b, g, end-frame J, J̇u)")
     gen.add_argument("--name", default="eom", help="with --c: the C prefix and file name (default eom)")
+    so = sub.add_parser("solve", help="a worked solution of the system defined in a Python file")
+    so.add_argument("file", help="a Python file that defines `system` (an eomgen.System or KaneEquations)")
+    so.add_argument("-o", "--output", required=True, help="solution.tex, solution.md or solution.pdf")
+    so.add_argument("--methods", default="free_cut,projected_newton_euler,lagrange",
+                    help="comma-separated methods (default: the lecture's three)")
+    so.add_argument("--form", default="auto", choices=["auto", "textbook", "shared"])
+    so.add_argument("--digits", type=int, default=4, help="significant digits of decimal numbers")
+    so.add_argument("--title", help="the document's title")
     args = ap.parse_args(argv)
     try:
+        if args.command == "solve":
+            return solve(args)
         system = load(args.robot)
         if args.command == "verify":
             from .verify import verify

@@ -161,3 +161,11 @@ class EquationsOfMotion(ClosedForms):
 
     def __repr__(self) -> str:
         return f"EquationsOfMotion(method={self.method!r}, q={list(self.q)})"
+
+    def _repr_markdown_(self) -> str:  # Jupyter
+        from .worked.display import equations_markdown
+        return equations_markdown(self)
+
+    def _repr_latex_(self) -> str:
+        from .worked.display import equations_math
+        return f"$$ {equations_math(self)} $$"

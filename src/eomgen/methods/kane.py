@@ -91,6 +91,14 @@ class KaneEquations(ClosedForms):
         wdot = sp.Matrix([Generated(f"{w.name}dot", ("dot", w)) for w in self.independent])
         return -self.mass_matrix * wdot + self.forcing - self.active_forces
 
+    def _repr_markdown_(self) -> str:  # Jupyter
+        from ..worked.display import kane_markdown
+        return kane_markdown(self)
+
+    def _repr_latex_(self) -> str:
+        from ..worked.display import kane_math
+        return f"$$ {kane_math(self)} $$"
+
     # --- closed forms ---------------------------------------------------------------------------
     def _blocks(self) -> dict[str, sp.Matrix]:
         """Y, K, k0, r_kin, C_dep, C_ind, c0, r_con, M, h, Q in closed form (q, q̇, w)."""
