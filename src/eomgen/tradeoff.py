@@ -31,6 +31,7 @@ class Variant:
     errors: dict = field(default_factory=dict)  # quantity -> (max, rms) relative error
 
     def row(self) -> str:
+        """The variant as a line of the table under `HEADER`."""
         e = self.errors
         return (f"{self.name:34s} {self.derive_seconds:7.2f} {self.ops:7d} {self.eval_us_per_state:8.2f} "
                 + " ".join(f"{e[k][0]:9.1e}" for k in ("M", "b", "g", "ud")) + f" {e['ud'][1]:9.1e}")

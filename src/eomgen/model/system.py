@@ -48,6 +48,7 @@ class Contact:
 
     @property
     def rows(self) -> int:
+        """The contact's rows in J_c: 3 for a point, 6 for a frame."""
         return 3 if self.kind == "point" else 6
 
 
@@ -74,14 +75,17 @@ class System:
     # --- coordinates -------------------------------------------------------------------------
     @property
     def joints(self) -> list[Joint]:
+        """The moving joints (not the fixed ones), in the order of q and u."""
         return [b.joint for b in self.bodies if b.index is not None]
 
     @property
     def q(self) -> sp.Matrix:
+        """The coordinates q, a column of symbols (a free-flyer base has 7, or 6 in Euler angles)."""
         return sp.Matrix([x for j in self.joints for x in j.coordinates])
 
     @property
     def u(self) -> sp.Matrix:
+        """The speeds u, a column of symbols (q̇ but for a quaternion base's twist)."""
         return sp.Matrix([x for j in self.joints for x in j.speeds])
 
     @property
@@ -106,6 +110,7 @@ class System:
 
     @property
     def floating_base(self) -> bool:
+        """True if the root body has a `FreeFlyer` joint."""
         return any(isinstance(j, FreeFlyer) for j in self.joints)
 
     @property
