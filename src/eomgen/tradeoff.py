@@ -24,6 +24,9 @@ from .state import random_states
 
 @dataclass
 class Variant:
+    """One variant of a model as `tradeoff` measures it: derivation and code generation time, operations
+    of M, b and g, evaluation time per state, and errors[quantity] = (max, RMS) relative error."""
+
     name: str
     derive_seconds: float
     ops: int

@@ -17,6 +17,10 @@ from .values import is_numeric, matrix3, nonnegative, scalar, vector3
 
 @dataclass(eq=False)
 class Body:
+    """A rigid body of a `System` (made by `System.add_body`): parent, joint, mass, com and inertia
+    (body frame), placement of the joint frame on the parent; `index` and `q_index` are the
+    positions of the joint's first speed in u and first coordinate in q (None for a fixed joint)."""
+
     name: str
     parent: "Body | None"
     joint: Joint
@@ -34,6 +38,8 @@ class Body:
 
 @dataclass(eq=False)
 class Frame:
+    """A named frame fixed on a body (made by `System.add_frame`), placed on the body's frame."""
+
     name: str
     body: Body
     placement: Placement
