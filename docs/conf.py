@@ -13,7 +13,6 @@ sys.path.insert(0, str(SRC))
 sys.path.insert(0, str(DOCS / "_ext"))
 # the notebook kernels are subprocesses: they import eomgen from the same source tree
 os.environ["PYTHONPATH"] = os.pathsep.join(p for p in (str(SRC), os.environ.get("PYTHONPATH")) if p)
-os.environ.setdefault("MPLBACKEND", "Agg")
 
 import eomgen  # noqa: E402
 
