@@ -59,14 +59,17 @@ class EquationsOfMotion(ClosedForms):
 
     @property
     def system(self) -> System:
+        """The system these equations were derived from."""
         return self.kinematics.system
 
     @property
     def q(self) -> sp.Matrix:
+        """The coordinates q (`System.q`)."""
         return self.system.q
 
     @property
     def u(self) -> sp.Matrix:
+        """The speeds u (`System.u`)."""
         return self.system.u
 
     @property
@@ -88,6 +91,7 @@ class EquationsOfMotion(ClosedForms):
 
     @property
     def load_names(self) -> list[str]:
+        """The names of the loads whose generalized forces were derived (see `tau_of`)."""
         return [k.split(":", 1)[1] for k in self.compact if k.startswith("tau:")]
 
     def tau_of(self, load: str) -> sp.Matrix:

@@ -80,6 +80,7 @@ class Kinematics:
                             lambda: self.sub.add_matrix(self.p[point.body] + matmul(self.R[point.body], point.offset)))
 
     def com(self, body: Body) -> sp.Matrix:
+        """World coordinates of the body's centre of mass."""
         return self.position(Point(body, body.com))
 
     def frame_placement(self, name: str) -> tuple[sp.Matrix, sp.Matrix]:

@@ -24,6 +24,9 @@ from .state import random_states
 
 @dataclass
 class Variant:
+    """One variant of a model as `tradeoff` measures it: derivation and code generation time, operations
+    of M, b and g, evaluation time per state, and errors[quantity] = (max, RMS) relative error."""
+
     name: str
     derive_seconds: float
     ops: int
@@ -31,6 +34,7 @@ class Variant:
     errors: dict = field(default_factory=dict)  # quantity -> (max, rms) relative error
 
     def row(self) -> str:
+        """The variant as a line of the table under `HEADER`."""
         e = self.errors
         return (f"{self.name:34s} {self.derive_seconds:7.2f} {self.ops:7d} {self.eval_us_per_state:8.2f} "
                 + " ".join(f"{e[k][0]:9.1e}" for k in ("M", "b", "g", "ud")) + f" {e['ud'][1]:9.1e}")

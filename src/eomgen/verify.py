@@ -71,7 +71,8 @@ def end_frames(system: System) -> list[str]:
 
 @dataclass
 class Report:
-    """Maximum absolute and relative error of each quantity over the states (relative to max(1, |ref|))."""
+    """Maximum absolute and relative error of each quantity over the states (relative to
+    ``max(1, |ref|)``)."""
 
     name: str
     method: str
@@ -83,9 +84,11 @@ class Report:
     errors: dict[str, tuple[float, float]] = field(default_factory=dict)
 
     def worst(self) -> float:
+        """The largest relative error of all quantities."""
         return max(rel for _, rel in self.errors.values())
 
     def ok(self, tol: float = 1e-10) -> bool:
+        """True if the largest relative error is at most `tol`."""
         return self.worst() <= tol
 
     def __str__(self) -> str:

@@ -98,6 +98,7 @@ class NumericEoM:
 
     @property
     def sources(self) -> dict[str, str]:
+        """The Python source of each generated function, by key."""
         return {k: f.source for k, f in self.functions.items()}
 
     @property
@@ -161,12 +162,15 @@ class NumericEoM:
             return out
 
     def M(self, q, params=None) -> np.ndarray:
+        """Mass matrix M(q), shape (nv, nv) per state."""
         return self.call("M", q, params=params)
 
     def b(self, q, u, params=None) -> np.ndarray:
+        """Coriolis and centrifugal terms b(q, u), shape (nv,) per state."""
         return self.call("b", q, u, params=params)[..., 0]
 
     def g(self, q, params=None) -> np.ndarray:
+        """Gravity terms g(q) (left-hand side), shape (nv,) per state."""
         return self.call("g", q, params=params)[..., 0]
 
     def nle(self, q, u, params=None) -> np.ndarray:
@@ -180,9 +184,11 @@ class NumericEoM:
         return self.call("tau", q, u, params=params)[..., 0]
 
     def T(self, q, u, params=None):
+        """Kinetic energy T(q, u), a number per state."""
         return self.call("T", q, u, params=params)[..., 0, 0]
 
     def U(self, q, params=None):
+        """Potential energy U(q) (gravity, springs, bending), a number per state."""
         return self.call("U", q, params=params)[..., 0, 0]
 
     def jacobian(self, frame: str, q, params=None) -> np.ndarray:
@@ -277,6 +283,7 @@ class NumericEoM:
         return self.call("J_c", q, params=params)
 
     def contact_jacobian_dot_u(self, q, u, params=None) -> np.ndarray:
+        """J̇_c u, stacked like J_c's rows."""
         self._function("Jdot_c_u", lambda: self.eom.kinematics.contact_jacobian()[1])
         return self.call("Jdot_c_u", q, u, params=params)[..., 0]
 

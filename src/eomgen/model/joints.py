@@ -218,6 +218,7 @@ class FlexibleLink(Joint):
 
     @property
     def dof(self) -> int:
+        """Number of speeds: the joint angle and the deflection and slope of each free node."""
         return 1 + len(self.nodal)
 
     def constants(self) -> dict[str, sp.Expr]:

@@ -11,6 +11,8 @@ import sympy as sp
 
 @dataclass(frozen=True)
 class Point:
+    """A point: a body (None = the world) and its coordinates `offset` in that body's frame."""
+
     body: object | None  # a Body, or None for the world
     offset: sp.Matrix
 

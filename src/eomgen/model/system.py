@@ -17,6 +17,10 @@ from .values import is_numeric, matrix3, nonnegative, scalar, vector3
 
 @dataclass(eq=False)
 class Body:
+    """A rigid body of a `System` (made by `System.add_body`): parent, joint, mass, com and inertia
+    (body frame), placement of the joint frame on the parent; `index` and `q_index` are the
+    positions of the joint's first speed in u and first coordinate in q (None for a fixed joint)."""
+
     name: str
     parent: "Body | None"
     joint: Joint
@@ -34,6 +38,8 @@ class Body:
 
 @dataclass(eq=False)
 class Frame:
+    """A named frame fixed on a body (made by `System.add_frame`), placed on the body's frame."""
+
     name: str
     body: Body
     placement: Placement
@@ -48,6 +54,7 @@ class Contact:
 
     @property
     def rows(self) -> int:
+        """The contact's rows in J_c: 3 for a point, 6 for a frame."""
         return 3 if self.kind == "point" else 6
 
 
@@ -74,14 +81,17 @@ class System:
     # --- coordinates -------------------------------------------------------------------------
     @property
     def joints(self) -> list[Joint]:
+        """The moving joints (not the fixed ones), in the order of q and u."""
         return [b.joint for b in self.bodies if b.index is not None]
 
     @property
     def q(self) -> sp.Matrix:
+        """The coordinates q, a column of symbols (a free-flyer base has 7, or 6 in Euler angles)."""
         return sp.Matrix([x for j in self.joints for x in j.coordinates])
 
     @property
     def u(self) -> sp.Matrix:
+        """The speeds u, a column of symbols (q̇ but for a quaternion base's twist)."""
         return sp.Matrix([x for j in self.joints for x in j.speeds])
 
     @property
@@ -106,6 +116,7 @@ class System:
 
     @property
     def floating_base(self) -> bool:
+        """True if the root body has a `FreeFlyer` joint."""
         return any(isinstance(j, FreeFlyer) for j in self.joints)
 
     @property
