@@ -9,16 +9,9 @@
     A ``toctree`` that is left out while its glob patterns match no document (Sphinx warns on an
     empty glob, and the notebooks folder may be empty).
 
-``eomgen-optional-api MODULE``
-    One line per name of MODULE (the directive's content: ``name`` for a function, ``class Name``
-    for a class): each is documented with autodoc if MODULE imports and has it, and if
-    ``eomgen.__all__`` does not list it already (then the package's own reference documents it).
-    A module that does not import yet is left out, not an error.
-
 Both write reStructuredText: use them inside an ``{eval-rst}`` block of a MyST page."""
 from __future__ import annotations
 
-import importlib
 import inspect
 
 from docutils import nodes
@@ -73,32 +66,6 @@ class Quantities(SphinxDirective):
         return _parse(self, table)
 
 
-class OptionalApi(SphinxDirective):
-    """autodoc for the names of a module that may not exist yet (see the module doc)."""
-
-    required_arguments = 1
-    has_content = True
-
-    def run(self) -> list[nodes.Node]:
-        import eomgen
-
-        name = self.arguments[0]
-        self.env.note_reread()  # the module may appear before the next build
-        try:
-            module = importlib.import_module(name)
-        except ImportError:
-            return []
-        lines = []
-        for entry in (line.strip() for line in self.content):
-            if not entry:
-                continue
-            kind, _, attr = entry.rpartition(" ")
-            if not hasattr(module, attr) or attr in eomgen.__all__:
-                continue
-            lines.append(f".. auto{'class' if kind == 'class' else 'function'}:: {name}.{attr}\n")
-        return _parse(self, "\n".join(lines)) if lines else []
-
-
 class TocTreeIfAny(TocTree):
     """A globbing ``toctree``, left out while no document matches (see the module doc)."""
 
@@ -114,6 +81,5 @@ class TocTreeIfAny(TocTree):
 
 def setup(app):
     app.add_directive("eomgen-quantities", Quantities)
-    app.add_directive("eomgen-optional-api", OptionalApi)
     app.add_directive("toctree-if-any", TocTreeIfAny)
     return {"parallel_read_safe": True, "parallel_write_safe": True}
