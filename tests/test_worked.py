@@ -3,6 +3,7 @@
 Every expected expression is written by hand from the lecture "Robot Dynamics, Dynamics 1", the
 lecture on Kane's method for nonholonomic systems and the paper "Bond Graph Modeling of a Robot
 Manipulator"; comparisons are exact (trigonometric polynomial identities)."""
+
 from __future__ import annotations
 
 import shutil
@@ -61,11 +62,15 @@ def test_cart_pendulum_energies_and_lagrange_steps(cart):
     k = sp.Symbol("k", positive=True)
     spring = k * ((x + l * sp.sin(phi)) ** 2 + (l * sp.cos(phi)) ** 2) / 2  # zero-length, from the origin
     difference = U - U_gravity - spring
-    assert all(trig_zero(sp.diff(difference, v), system.q) for v in system.q), difference  # up to a constant
+    assert all(
+        trig_zero(sp.diff(difference, v), system.q) for v in system.q
+    ), difference  # up to a constant
     p = [(m_c + m_p) * xd + m_p * l * sp.cos(phi) * phid, m_p * l * sp.cos(phi) * xd + m_p * l**2 * phid]
     assert same(sol["dT/du"], p, system.q)
-    dp = [(m_c + m_p) * xdd + m_p * l * (sp.cos(phi) * phidd - sp.sin(phi) * phid**2),
-          m_p * l * (sp.cos(phi) * xdd - sp.sin(phi) * phid * xd) + m_p * l**2 * phidd]
+    dp = [
+        (m_c + m_p) * xdd + m_p * l * (sp.cos(phi) * phidd - sp.sin(phi) * phid**2),
+        m_p * l * (sp.cos(phi) * xdd - sp.sin(phi) * phid * xd) + m_p * l**2 * phidd,
+    ]
     assert same(sol["d/dt dT/du"], dp, system.q)
     assert same(sol["dT/dq"], [0, -m_p * l * sp.sin(phi) * xd * phid], system.q)
     assert same(sol["dU/dq"], [sp.diff(U_gravity + spring, v) for v in system.q], system.q)
@@ -88,7 +93,9 @@ def test_cart_pendulum_M_b_g_by_each_method(cart):
         assert same(sol.find("tau[spring]", method), J_s.T * (-k * r), system.q)
     comparison = sol.steps[-1]
     assert comparison.title == "Comparison of the methods"
-    assert all(e.is_zero_matrix for e in comparison.expressions.values()) and len(comparison.expressions) == 6
+    assert (
+        all(e.is_zero_matrix for e in comparison.expressions.values()) and len(comparison.expressions) == 6
+    )
 
 
 def test_cart_pendulum_free_cut(cart):
@@ -100,8 +107,9 @@ def test_cart_pendulum_free_cut(cart):
     for body in ("cart", "pendulum"):
         assert sol[f"Newton[{body}]"].shape == (2, 1) and sol[f"Euler[{body}]"].shape == (1, 1)
     r_S = sp.Matrix([x + l * sp.sin(phi), -l * sp.cos(phi)])
-    a_S = r_S.jacobian([x, phi]) * sp.Matrix([xdd, phidd]) + \
-        (r_S.jacobian([x, phi]) * sp.Matrix([xd, phid])).jacobian([x, phi]) * sp.Matrix([xd, phid])
+    a_S = r_S.jacobian([x, phi]) * sp.Matrix([xdd, phidd]) + (
+        r_S.jacobian([x, phi]) * sp.Matrix([xd, phid])
+    ).jacobian([x, phi]) * sp.Matrix([xd, phid])
     rod = m_p * (a_S - sp.Matrix([0, -g]))  # Newton on the point mass: the rod's force, all there is
     spring_force = -sp.Symbol("k", positive=True) * sp.Matrix([x + l * sp.sin(phi), -l * sp.cos(phi)])
     assert same(sol["reaction[phi]"][:2, :], rod - spring_force, system.q)
@@ -114,8 +122,12 @@ def test_skate_kane_steps():
     l = sp.Symbol("l", positive=True)
     system, args = nonholonomic.skate(force_at=l)
     sol = eg.solution(eg.kane(system, **args))
-    m, a, I_z, F = sp.Symbol("m", positive=True), sp.Symbol("a", positive=True), sp.Symbol("I_z", positive=True), \
-        sp.Symbol("F")
+    m, a, I_z, F = (
+        sp.Symbol("m", positive=True),
+        sp.Symbol("a", positive=True),
+        sp.Symbol("I_z", positive=True),
+        sp.Symbol("F"),
+    )
     u1, u2 = sp.symbols("u1 u2")
     q = list(system.q)
     assert same(sol["F_r"], [0, F * l], q)
@@ -134,10 +146,22 @@ def two_link_arm():
     """The bond-graph paper's arm, angles from the horizontal, gravity −y."""
     m1, m2, l1, lc1, lc2, I1, I2, g = sp.symbols("m_1 m_2 l_1 l_c1 l_c2 I_1 I_2 g", positive=True)
     system = eg.System(gravity=(0, -g, 0))
-    a = system.add_body("link1", joint=eg.Revolute("q_1", axis=(0, 0, 1)), mass=m1, com=(lc1, 0, 0),
-                        inertia=sp.diag(0, 0, I1))
-    system.add_body("link2", parent=a, joint=eg.Revolute("q_2", axis=(0, 0, 1)), mass=m2, com=(lc2, 0, 0),
-                    inertia=sp.diag(0, 0, I2), placement=eg.Placement(translation=(l1, 0, 0)))
+    a = system.add_body(
+        "link1",
+        joint=eg.Revolute("q_1", axis=(0, 0, 1)),
+        mass=m1,
+        com=(lc1, 0, 0),
+        inertia=sp.diag(0, 0, I1),
+    )
+    system.add_body(
+        "link2",
+        parent=a,
+        joint=eg.Revolute("q_2", axis=(0, 0, 1)),
+        mass=m2,
+        com=(lc2, 0, 0),
+        inertia=sp.diag(0, 0, I2),
+        placement=eg.Placement(translation=(l1, 0, 0)),
+    )
     return system, (m1, m2, l1, lc1, lc2, I1, I2, g)
 
 
@@ -150,7 +174,10 @@ def test_two_link_arm_textbook():
     M = [[M11, M12], [M12, I2 + m2 * lc2**2]]
     h = -m2 * l1 * lc2 * sp.sin(q2)
     Cqd = [h * qd2 * (2 * qd1 + qd2), -h * qd1**2]
-    G = [(m1 * lc1 + m2 * l1) * g * sp.cos(q1) + m2 * lc2 * g * sp.cos(q1 + q2), m2 * lc2 * g * sp.cos(q1 + q2)]
+    G = [
+        (m1 * lc1 + m2 * l1) * g * sp.cos(q1) + m2 * lc2 * g * sp.cos(q1 + q2),
+        m2 * lc2 * g * sp.cos(q1 + q2),
+    ]
     for method in LECTURE:
         assert same(sol.find("M", method), M, system.q)
         assert same(sol.find("b", method), Cqd, system.q)
@@ -167,9 +194,15 @@ def three_link_arm():
         m, l, lc, I = sp.symbols(f"m_{i} l_{i} l_c{i} I_{i}", positive=True)
         symbols.append((m, l, lc, I))
         offset = symbols[i - 2][1] if i > 1 else 0
-        parent = system.add_body(f"link{i}", parent=parent, joint=eg.Revolute(f"q_{i}", axis=(0, 0, 1)), mass=m,
-                                 com=(lc, 0, 0), inertia=sp.diag(0, 0, I),
-                                 placement=eg.Placement(translation=(offset, 0, 0)))
+        parent = system.add_body(
+            f"link{i}",
+            parent=parent,
+            joint=eg.Revolute(f"q_{i}", axis=(0, 0, 1)),
+            mass=m,
+            com=(lc, 0, 0),
+            inertia=sp.diag(0, 0, I),
+            placement=eg.Placement(translation=(offset, 0, 0)),
+        )
     return system, symbols, g
 
 
@@ -186,25 +219,46 @@ def test_three_link_arm_every_entry_in_textbook_form():
     M22 = I2 + m2 * lc2**2 + I3 + m3 * (l2**2 + lc3**2 + 2 * l2 * lc3 * c3)
     M13 = M23 + m3 * l1 * lc3 * c23
     M12 = M22 + m2 * l1 * lc2 * c2 + m3 * (l1 * l2 * c2 + l1 * lc3 * c23)
-    M11 = I1 + m1 * lc1**2 + I2 + m2 * (l1**2 + lc2**2 + 2 * l1 * lc2 * c2) + I3 + m3 * (
-        l1**2 + l2**2 + lc3**2 + 2 * l1 * l2 * c2 + 2 * l1 * lc3 * c23 + 2 * l2 * lc3 * c3)
+    M11 = (
+        I1
+        + m1 * lc1**2
+        + I2
+        + m2 * (l1**2 + lc2**2 + 2 * l1 * lc2 * c2)
+        + I3
+        + m3 * (l1**2 + l2**2 + lc3**2 + 2 * l1 * l2 * c2 + 2 * l1 * lc3 * c23 + 2 * l2 * lc3 * c3)
+    )
     M = sp.Matrix([[M11, M12, M13], [M12, M22, M23], [M13, M23, M33]])
     # b = C q̇ from the Christoffel symbols of the hand M (an independent route to b)
     q, u = list(system.q), list(system.u)
-    b = sp.Matrix([sum((sp.diff(M[i, j], q[k]) - sp.diff(M[j, k], q[i]) / 2) * u[j] * u[k]
-                       for j in range(3) for k in range(3)) for i in range(3)])
-    b_hand = [-m2 * l1 * lc2 * s2 * (2 * d1 * d2 + d2**2) - m3 * l1 * l2 * s2 * (2 * d1 * d2 + d2**2)
-              - m3 * l1 * lc3 * s23 * (d2 + d3) * (2 * d1 + d2 + d3) - m3 * l2 * lc3 * s3 * d3 * (2 * d1 + 2 * d2 + d3),
-              (m2 * l1 * lc2 * s2 + m3 * l1 * l2 * s2 + m3 * l1 * lc3 * s23) * d1**2
-              - m3 * l2 * lc3 * s3 * d3 * (2 * d1 + 2 * d2 + d3),
-              m3 * l1 * lc3 * s23 * d1**2 + m3 * l2 * lc3 * s3 * (d1 + d2) ** 2]
+    b = sp.Matrix(
+        [
+            sum(
+                (sp.diff(M[i, j], q[k]) - sp.diff(M[j, k], q[i]) / 2) * u[j] * u[k]
+                for j in range(3)
+                for k in range(3)
+            )
+            for i in range(3)
+        ]
+    )
+    b_hand = [
+        -m2 * l1 * lc2 * s2 * (2 * d1 * d2 + d2**2)
+        - m3 * l1 * l2 * s2 * (2 * d1 * d2 + d2**2)
+        - m3 * l1 * lc3 * s23 * (d2 + d3) * (2 * d1 + d2 + d3)
+        - m3 * l2 * lc3 * s3 * d3 * (2 * d1 + 2 * d2 + d3),
+        (m2 * l1 * lc2 * s2 + m3 * l1 * l2 * s2 + m3 * l1 * lc3 * s23) * d1**2
+        - m3 * l2 * lc3 * s3 * d3 * (2 * d1 + 2 * d2 + d3),
+        m3 * l1 * lc3 * s23 * d1**2 + m3 * l2 * lc3 * s3 * (d1 + d2) ** 2,
+    ]
     assert same(b, b_hand, q)
     G3 = m3 * g * lc3 * sp.cos(q1 + q2 + q3)
     G2 = G3 + (m2 * lc2 + m3 * l2) * g * sp.cos(q1 + q2)
     G = [G2 + (m1 * lc1 + m2 * l1 + m3 * l1) * g * sp.cos(q1), G2, G3]
     for method in LECTURE:
-        assert same(sol.find("M", method), M, q) and same(sol.find("b", method), b_hand, q) and \
-            same(sol.find("g", method), G, q), method
+        assert (
+            same(sol.find("M", method), M, q)
+            and same(sol.find("b", method), b_hand, q)
+            and same(sol.find("g", method), G, q)
+        ), method
     hands = list(M) + b_hand + G
     for got, hand in zip(list(sol["M"]) + list(sol["b"]) + list(sol["g"]), hands):
         assert sp.count_ops(got) <= 1.2 * sp.count_ops(hand), (got, hand)
@@ -217,12 +271,18 @@ def test_no_intermediate_symbols_and_readable_names(cart):
     document = sol.latex()
     assert "ξ" not in document and "xi_" not in document
     assert r"\dot{\phi}" in document and r"\ddot{x}" in document and "m_{p}" in document
-    assert not any("_ξ" in str(s) for step in sol.steps for e in step.expressions.values()
-                   for s in sp.sympify(e).free_symbols)
+    assert not any(
+        "_ξ" in str(s)
+        for step in sol.steps
+        for e in step.expressions.values()
+        for s in sp.sympify(e).free_symbols
+    )
 
 
 def test_numbers_from_a_file_print_as_decimals():
-    assert latex(sp.Rational(44105, 9007199254740992), digits=4) == latex(sp.Float(4.896722e-12, 6), digits=4)
+    assert latex(sp.Rational(44105, 9007199254740992), digits=4) == latex(
+        sp.Float(4.896722e-12, 6), digits=4
+    )
     assert "4.897" in latex(sp.Rational(44105, 9007199254740992), digits=4)
     assert latex(sp.Rational(1, 2)) == r"\frac{1}{2}"
     assert latex(sp.Float(0.123456789), digits=3) == "0.123"
@@ -248,8 +308,13 @@ def compile_pdf(tex: str, folder: Path) -> Path:
     engine = shutil.which("pdflatex")
     assert engine, "pdflatex is needed (.ci/run installs TeX Live)"
     (folder / "s.tex").write_text(tex, encoding="utf-8")
-    run = subprocess.run([engine, "-interaction=nonstopmode", "-halt-on-error", "s.tex"], cwd=folder,
-                         capture_output=True, text=True, timeout=300)
+    run = subprocess.run(
+        [engine, "-interaction=nonstopmode", "-halt-on-error", "s.tex"],
+        cwd=folder,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert run.returncode == 0, run.stdout[-3000:]
     return folder / "s.pdf"
 
@@ -268,7 +333,9 @@ def test_latex_documents_compile(which, tmp_path, cart):
     assert pdf.stat().st_size > 10_000
     png = shutil.which("pdftoppm")
     assert png, "pdftoppm is needed (poppler-utils)"
-    subprocess.run([png, "-r", "40", "-png", "-f", "1", "-l", "1", str(pdf), str(tmp_path / "page")], check=True)
+    subprocess.run(
+        [png, "-r", "40", "-png", "-f", "1", "-l", "1", str(pdf), str(tmp_path / "page")], check=True
+    )
     assert any(tmp_path.glob("page*.png"))
 
 
@@ -280,9 +347,11 @@ def test_markdown_document(cart):
 
 def test_command_line_solve(tmp_path):
     source = tmp_path / "model.py"
-    source.write_text("import sympy as sp\nimport eomgen as eg\nm, l, g = sp.symbols('m l g', positive=True)\n"
-                      "system = eg.System(gravity=(0, -g, 0))\n"
-                      "system.add_body('rod', joint=eg.Revolute('theta', axis=(0, 0, 1)), mass=m, com=(l, 0, 0))\n")
+    source.write_text(
+        "import sympy as sp\nimport eomgen as eg\nm, l, g = sp.symbols('m l g', positive=True)\n"
+        "system = eg.System(gravity=(0, -g, 0))\n"
+        "system.add_body('rod', joint=eg.Revolute('theta', axis=(0, 0, 1)), mass=m, com=(l, 0, 0))\n"
+    )
     for suffix in (".tex", ".md", ".pdf"):
         assert main(["solve", str(source), "-o", str(tmp_path / f"s{suffix}")]) == 0
         assert (tmp_path / f"s{suffix}").stat().st_size > 500

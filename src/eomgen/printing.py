@@ -5,6 +5,7 @@ acceleration φ̈, whatever the coordinate is called), joint efforts τ with the
 subscript, parameters as sympy prints them (m_p → m_{p}, phi → φ), and numbers that came from a
 file (floats, rationals such as 44105/9007199254740992) as decimals with `digits` significant digits;
 small integers and simple fractions (1/2, 3/4) stay exact."""
+
 from __future__ import annotations
 
 import sympy as sp
@@ -55,15 +56,23 @@ def _split_subscript(symbol: str) -> tuple[str, str]:
 
 def escape(label: str) -> str:
     """A name as LaTeX text (text mode): special characters escaped."""
-    return "".join({"\\": r"\textbackslash{}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}.get(
-        c, "\\" + c if c in "#$%&_{}" else c) for c in label)
+    return "".join(
+        {"\\": r"\textbackslash{}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}.get(
+            c, "\\" + c if c in "#$%&_{}" else c
+        )
+        for c in label
+    )
 
 
 def latex(expr, digits: int = 4) -> str:
     """LaTeX of a sympy expression or matrix (see the module)."""
+
     def decimals(e):
         e = sp.sympify(e)
-        return e.xreplace({r: sp.Float(r, digits + 2) for r in e.atoms(sp.Rational) if r.q > SIMPLE_DENOMINATOR})
+        return e.xreplace(
+            {r: sp.Float(r, digits + 2) for r in e.atoms(sp.Rational) if r.q > SIMPLE_DENOMINATOR}
+        )
+
     expr = expr.applyfunc(decimals) if isinstance(expr, sp.MatrixBase) else decimals(expr)
     return Printer(digits).doprint(expr)
 

@@ -1,4 +1,5 @@
 """`solution(system)`: the worked solution of a system's equations of motion, method by method."""
+
 from __future__ import annotations
 
 import sympy as sp
@@ -16,12 +17,22 @@ from .textbook import MAX_OPS, SECONDS, Simplifier, is_zero
 
 LECTURE = ("free_cut", "projected_newton_euler", "lagrange")
 TEXTBOOK_DOF = 4  # form "auto": textbook closed forms up to this many speeds, shared forms beyond
-STEPS = {"free_cut": steps.free_cut, "projected_newton_euler": steps.projected_newton_euler,
-         "lagrange": steps.lagrange, "recursive": steps.recursive}
+STEPS = {
+    "free_cut": steps.free_cut,
+    "projected_newton_euler": steps.projected_newton_euler,
+    "lagrange": steps.lagrange,
+    "recursive": steps.recursive,
+}
 
 
-def solution(equations, methods=LECTURE, form: str = "auto", title: str | None = None,
-             max_ops: int = MAX_OPS, seconds: float = SECONDS) -> Solution:
+def solution(
+    equations,
+    methods=LECTURE,
+    form: str = "auto",
+    title: str | None = None,
+    max_ops: int = MAX_OPS,
+    seconds: float = SECONDS,
+) -> Solution:
     """The worked solution of a `System` by each of `methods` (the lecture's three by default), or of
     `KaneEquations` (from `eg.kane`): steps with the intermediate results, M, b, g by each method and
     their comparison (exact for closed forms, at random states for shared ones).
@@ -32,9 +43,13 @@ def solution(equations, methods=LECTURE, form: str = "auto", title: str | None =
     if isinstance(equations, KaneEquations):
         return kane_steps.solution(equations, _simplifier(equations.system, max_ops, seconds), title)
     if isinstance(equations, EquationsOfMotion):
-        raise ModelError("solution: give the System (each method derives its own equations) or KaneEquations")
+        raise ModelError(
+            "solution: give the System (each method derives its own equations) or KaneEquations"
+        )
     if not isinstance(equations, System):
-        raise ModelError(f"solution: expected an eomgen.System or KaneEquations, got {type(equations).__name__}")
+        raise ModelError(
+            f"solution: expected an eomgen.System or KaneEquations, got {type(equations).__name__}"
+        )
     system = equations
     methods = (methods,) if isinstance(methods, str) else tuple(methods)
     unknown = [m for m in methods if m not in METHODS]
@@ -79,12 +94,18 @@ def _comparison(derived: dict[str, EquationsOfMotion], results: dict, form: str)
                 expressions[label] = sp.zeros(*difference.shape)
             else:
                 expressions[label] = sp.Float(_largest_difference(derived[other], derived[first], key), 3)
-    how = ("exactly: each difference, brought to a polynomial in the sines and cosines of the coordinates, "
-           "is zero" if form == "textbook" else
-           "at 5 random states, through each derivation's shared intermediates: the largest absolute "
-           "difference of any entry is given")
-    return steps.Step("Comparison of the methods", f"M, b and g of {', '.join(names)} agree {how}.",
-                      expressions)
+    how = (
+        "exactly: each difference, brought to a polynomial in the sines and cosines of the coordinates, "
+        "is zero"
+        if form == "textbook"
+        else (
+            "at 5 random states, through each derivation's shared intermediates: the largest absolute "
+            "difference of any entry is given"
+        )
+    )
+    return steps.Step(
+        "Comparison of the methods", f"M, b and g of {', '.join(names)} agree {how}.", expressions
+    )
 
 
 def _largest_difference(a: EquationsOfMotion, b: EquationsOfMotion, key: str) -> float:

@@ -1,5 +1,6 @@
 """A worked solution and its renderings: a LaTeX document (pdflatex), Markdown with math, and the
 Jupyter display. Step texts carry their formulas as $...$ math and `code` in backticks."""
+
 from __future__ import annotations
 
 import re
@@ -18,16 +19,41 @@ from ..model.system import System
 from ..printing import escape, latex, text
 
 WIDTH = 150  # characters of LaTeX per line of a long sum
-METHOD_TITLES = {"free_cut": "Newton-Euler with a free cut", "projected_newton_euler": "Projected Newton-Euler",
-                 "lagrange": "Lagrange II", "recursive": "Recursive Newton-Euler (body frames)",
-                 "kane": "Kane's method", None: "Kinematics"}
-LABELS = {"r_S": "r_{{S}}", "J_P": "J_{{P}}", "J_R": "J_{{R}}", "Omega": r"\Omega", "tau": r"\tau",
-          "Newton": r"\text{{Newton}}", "Euler": r"\text{{Euler}}", "reaction": r"\text{{reaction}}",
-          "v_r": "v_{{r}}", "omega_r": r"\omega_{{r}}"}
-NAMES = {"dT/du": r"\frac{\partial T}{\partial \dot q}", "d/dt dT/du": r"\frac{d}{dt} \frac{\partial T}{\partial \dot q}",
-         "dT/dq": r"\frac{\partial T}{\partial q}", "dU/dq": r"\frac{\partial U}{\partial q}",
-         "F_r": r"\tilde F_{r}", "F*_r": r"\tilde F^{*}_{r}", "F_r + F*_r": r"\tilde F_{r} + \tilde F^{*}_{r}",
-         "M~": r"\tilde M", "f~": r"\tilde f", "qdot": r"\dot q", "N_c": "N_{c}", "F_c": "F_{c}", "J_c": "J_{c}"}
+METHOD_TITLES = {
+    "free_cut": "Newton-Euler with a free cut",
+    "projected_newton_euler": "Projected Newton-Euler",
+    "lagrange": "Lagrange II",
+    "recursive": "Recursive Newton-Euler (body frames)",
+    "kane": "Kane's method",
+    None: "Kinematics",
+}
+LABELS = {
+    "r_S": "r_{{S}}",
+    "J_P": "J_{{P}}",
+    "J_R": "J_{{R}}",
+    "Omega": r"\Omega",
+    "tau": r"\tau",
+    "Newton": r"\text{{Newton}}",
+    "Euler": r"\text{{Euler}}",
+    "reaction": r"\text{{reaction}}",
+    "v_r": "v_{{r}}",
+    "omega_r": r"\omega_{{r}}",
+}
+NAMES = {
+    "dT/du": r"\frac{\partial T}{\partial \dot q}",
+    "d/dt dT/du": r"\frac{d}{dt} \frac{\partial T}{\partial \dot q}",
+    "dT/dq": r"\frac{\partial T}{\partial q}",
+    "dU/dq": r"\frac{\partial U}{\partial q}",
+    "F_r": r"\tilde F_{r}",
+    "F*_r": r"\tilde F^{*}_{r}",
+    "F_r + F*_r": r"\tilde F_{r} + \tilde F^{*}_{r}",
+    "M~": r"\tilde M",
+    "f~": r"\tilde f",
+    "qdot": r"\dot q",
+    "N_c": "N_{c}",
+    "F_c": "F_{c}",
+    "J_c": "J_{c}",
+}
 
 
 @dataclass
@@ -62,21 +88,37 @@ class Solution:
                 body.append(rf"\subsection*{{{step.title}}}")
                 body.append(_prose(step.text, "latex"))
                 body.extend(_blocks(step, "latex", digits))
-        document = "\n".join([PREAMBLE, rf"\title{{{escape(self.title)}}}", r"\date{}",
-                              r"\begin{document}", r"\maketitle", *body, r"\end{document}", ""])
+        document = "\n".join(
+            [
+                PREAMBLE,
+                rf"\title{{{escape(self.title)}}}",
+                r"\date{}",
+                r"\begin{document}",
+                r"\maketitle",
+                *body,
+                r"\end{document}",
+                "",
+            ]
+        )
         return _write(path, document)
 
     def pdf(self, path, digits: int = 4, engine: str = "pdflatex") -> Path:
         """The LaTeX document compiled to a PDF at `path` (needs a LaTeX engine, e.g. TeX Live)."""
         exe = shutil.which(engine)
         if exe is None:
-            raise ModelError(f"no LaTeX engine {engine!r} on this machine: install one (TeX Live's pdflatex) "
-                             "or write the .tex with solution.latex(path)")
+            raise ModelError(
+                f"no LaTeX engine {engine!r} on this machine: install one (TeX Live's pdflatex) "
+                "or write the .tex with solution.latex(path)"
+            )
         path = Path(path)
         with tempfile.TemporaryDirectory() as folder:
             (Path(folder) / "solution.tex").write_text(self.latex(digits=digits), encoding="utf-8")
-            run = subprocess.run([exe, "-interaction=nonstopmode", "-halt-on-error", "solution.tex"], cwd=folder,
-                                 capture_output=True, text=True)
+            run = subprocess.run(
+                [exe, "-interaction=nonstopmode", "-halt-on-error", "solution.tex"],
+                cwd=folder,
+                capture_output=True,
+                text=True,
+            )
             if run.returncode != 0:
                 raise ModelError(f"{engine} failed:\n{run.stdout[-2000:]}")
             shutil.copy(Path(folder) / "solution.pdf", path)
@@ -95,8 +137,11 @@ class Solution:
     def _sections(self):
         sections: list = []
         for step in self.steps:
-            name = METHOD_TITLES.get(step.method, step.method) if step.title != "Comparison of the methods" \
+            name = (
+                METHOD_TITLES.get(step.method, step.method)
+                if step.title != "Comparison of the methods"
                 else "Comparison"
+            )
             if not sections or sections[-1][0] != name:
                 sections.append((name, []))
             sections[-1][1].append(step)
@@ -106,7 +151,10 @@ class Solution:
         return self.markdown()
 
     def __repr__(self) -> str:
-        return f"Solution({self.title!r}, methods={list(self.methods)}, {len(self.steps)} steps, form={self.form!r})"
+        return (
+            f"Solution({self.title!r}, methods={list(self.methods)}, {len(self.steps)} steps,"
+            f" form={self.form!r})"
+        )
 
 
 PREAMBLE = r"""\documentclass[10pt]{article}
@@ -149,15 +197,28 @@ def _blocks(step, kind: str, digits: int) -> list[str]:
 
 
 def _math(expr, digits: int) -> str:
-    if isinstance(expr, sp.MatrixBase) and expr.cols == 1 and expr.rows > 0 and \
-            len(latex(expr, digits)) > WIDTH:
+    if (
+        isinstance(expr, sp.MatrixBase)
+        and expr.cols == 1
+        and expr.rows > 0
+        and len(latex(expr, digits)) > WIDTH
+    ):
         rows = [_broken(e, digits) for e in expr]
-        return r"\begin{bmatrix}" + r" \\ ".join(rf"\begin{{aligned}}&{r}\end{{aligned}}" for r in rows) + \
-            r"\end{bmatrix}"
+        return (
+            r"\begin{bmatrix}"
+            + r" \\ ".join(rf"\begin{{aligned}}&{r}\end{{aligned}}" for r in rows)
+            + r"\end{bmatrix}"
+        )
     if isinstance(expr, sp.MatrixBase) and len(latex(expr, digits)) > 4 * WIDTH:
-        return r"\left[\begin{aligned}" + r" \\ ".join(
-            rf"&({i + 1},{j + 1}):\ {_broken(expr[i, j], digits)}" for i in range(expr.rows)
-            for j in range(expr.cols)) + r"\end{aligned}\right]"
+        return (
+            r"\left[\begin{aligned}"
+            + r" \\ ".join(
+                rf"&({i + 1},{j + 1}):\ {_broken(expr[i, j], digits)}"
+                for i in range(expr.rows)
+                for j in range(expr.cols)
+            )
+            + r"\end{aligned}\right]"
+        )
     if isinstance(expr, sp.MatrixBase) or not isinstance(expr, sp.Add):
         return latex(expr, digits)
     return rf"\begin{{aligned}}&{_broken(expr, digits)}\end{{aligned}}"
@@ -217,8 +278,13 @@ def _load(load) -> tuple[str, str]:
     if isinstance(load, Actuator):
         return "actuator", f"between {_body(load.a.body)} and {_body(load.b.body)}"
     if isinstance(load, Spring):
-        return "spring", (f"$k = {latex(load.stiffness)}$, $l_0 = {latex(load.rest_length)}$, "
-                          f"{_body(load.a.body)} to {_body(load.b.body)}")
+        return (
+            "spring",
+            (
+                f"$k = {latex(load.stiffness)}$, $l_0 = {latex(load.rest_length)}$, "
+                f"{_body(load.a.body)} to {_body(load.b.body)}"
+            ),
+        )
     if isinstance(load, Damper):
         return "damper", f"$c = {latex(load.damping)}$"
     return type(load).__name__, ""
@@ -231,8 +297,17 @@ def _body(body) -> str:
 def _description(system: System, kind: str, digits: int) -> str:
     """Tables of the bodies (joint, mass, centre of mass, inertia) and the loads."""
     header = ["body", "parent", "joint", "mass", "centre of mass", "inertia"]
-    rows = [[b.name, _body(b.parent), f"{b.joint.name}: {_joint(b.joint)}", f"${latex(b.mass, digits)}$",
-             f"${latex(b.com.T, digits)}$", f"${_inertia(b.inertia, digits)}$"] for b in system.bodies]
+    rows = [
+        [
+            b.name,
+            _body(b.parent),
+            f"{b.joint.name}: {_joint(b.joint)}",
+            f"${latex(b.mass, digits)}$",
+            f"${latex(b.com.T, digits)}$",
+            f"${_inertia(b.inertia, digits)}$",
+        ]
+        for b in system.bodies
+    ]
     g = f"Gravity ${latex(system.gravity.T, digits)}$; coordinates $q = {latex(system.q.T, digits)}$."
     loads = [[load.name, *_load(load)] for load in system.loads]
     parts = [g, _table(header, rows, kind)]
@@ -251,12 +326,22 @@ def _inertia(I: sp.Matrix, digits: int) -> str:
 
 def _table(header: list[str], rows: list[list[str]], kind: str) -> str:
     def cell(c: str) -> str:  # names escaped, math kept
-        return c if kind == "markdown" else "".join(
-            part if part.startswith("$") else escape(part) for part in re.split(r"(\$[^$]*\$)", c))
+        return (
+            c
+            if kind == "markdown"
+            else "".join(
+                part if part.startswith("$") else escape(part) for part in re.split(r"(\$[^$]*\$)", c)
+            )
+        )
+
     if kind == "markdown":
         lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
         return "\n".join(lines + ["| " + " | ".join(c.replace("|", r"\|") for c in r) + " |" for r in rows])
     spec = "l" * len(header)
-    lines = [rf"\begin{{center}}\small\begin{{tabular}}{{{spec}}}", r"\toprule", " & ".join(header) + r" \\",
-             r"\midrule"] + [" & ".join(cell(c) for c in r) + r" \\" for r in rows]
+    lines = [
+        rf"\begin{{center}}\small\begin{{tabular}}{{{spec}}}",
+        r"\toprule",
+        " & ".join(header) + r" \\",
+        r"\midrule",
+    ] + [" & ".join(cell(c) for c in r) + r" \\" for r in rows]
     return "\n".join(lines + [r"\bottomrule", r"\end{tabular}\end{center}"])

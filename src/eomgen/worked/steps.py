@@ -4,6 +4,7 @@ Every expression is in the user's symbols (q, q̇, q̈ print as the coordinate's
 in textbook form where the `Simplifier` manages it within its budget; otherwise, and for large
 systems (form "shared"), the step lists shared definitions χ_k = ... (`Step.shared`) in order and
 its expressions use them."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -47,7 +48,9 @@ class Forms:
         if self.form == "shared":
             return expr
         closed = self.sub.inline(expr)
-        return self.simplifier.matrix(closed) if isinstance(closed, sp.MatrixBase) else self.simplifier(closed)
+        return (
+            self.simplifier.matrix(closed) if isinstance(closed, sp.MatrixBase) else self.simplifier(closed)
+        )
 
     def step(self, title: str, text: str, expressions: dict, method: str | None = None) -> Step:
         """A step whose large or compact expressions go through shared definitions χ_k."""
@@ -94,50 +97,87 @@ def kinematics(forms: Forms) -> Step:
         expressions[f"J_P[{b.name}]"] = forms(kin.J_P(S))
         expressions[f"J_R[{b.name}]"] = forms(kin.J_R(b))
         expressions[f"Omega[{b.name}]"] = forms(kin.omega(b))
-    return forms.step("Kinematics of the bodies",
-                      r"Each body's centre of mass $r_S$ and its Jacobians $J_P = \partial \dot r_S / \partial \dot q$ and "
-                      r"$J_R = \partial \Omega / \partial \dot q$ (world axes), which map the speeds to the velocity "
-                      r"$v_S = J_P \dot q$ and the angular velocity $\Omega = J_R \dot q$.", expressions)
+    return forms.step(
+        "Kinematics of the bodies",
+        r"Each body's centre of mass $r_S$ and its Jacobians $J_P = \partial \dot r_S / \partial \dot q$"
+        r" and "
+        r"$J_R = \partial \Omega / \partial \dot q$ (world axes), which map the speeds to the velocity "
+        r"$v_S = J_P \dot q$ and the angular velocity $\Omega = J_R \dot q$.",
+        expressions,
+    )
 
 
 def projected_newton_euler(forms: Forms) -> list[Step]:
-    return [forms.step("Projected Newton-Euler",
-                       r"Each body's momentum balance $m a_S = F$ and $\Theta \alpha + \Omega \times \Theta \Omega = T$ "
-                       r"(about its centre of mass) is projected on the generalized directions with its "
-                       r"Jacobians: $M = \sum J_P^T m J_P + J_R^T \Theta J_R$, $b = \sum J_P^T m \dot J_P \dot q + "
-                       r"J_R^T (\Theta \dot J_R \dot q + \Omega \times \Theta \Omega)$, $g = -\sum J_P^T m \vec g$, "
-                       r"and each load enters as $\tau = \sum J_P^T F + J_R^T T$.",
-                       forms.result(), "projected_newton_euler")]
+    return [
+        forms.step(
+            "Projected Newton-Euler",
+            r"Each body's momentum balance $m a_S = F$ and $\Theta \alpha + \Omega \times \Theta \Omega"
+            r" = T$ "
+            r"(about its centre of mass) is projected on the generalized directions with its "
+            r"Jacobians: $M = \sum J_P^T m J_P + J_R^T \Theta J_R$, $b = \sum J_P^T m \dot J_P \dot q + "
+            r"J_R^T (\Theta \dot J_R \dot q + \Omega \times \Theta \Omega)$, $g = -\sum J_P^T m \vec g$, "
+            r"and each load enters as $\tau = \sum J_P^T F + J_R^T T$.",
+            forms.result(),
+            "projected_newton_euler",
+        )
+    ]
 
 
 def recursive(forms: Forms) -> list[Step]:
-    return [forms.step("Recursive Newton-Euler and composite rigid bodies",
-                       "In body frames, velocities and accelerations go from the root to the leaves and "
-                       "forces back from the leaves to the root (RNEA gives $b$ and $g$); the composite "
-                       "inertias of the subtrees give $M$ (CRBA).", forms.result(), "recursive")]
+    return [
+        forms.step(
+            "Recursive Newton-Euler and composite rigid bodies",
+            "In body frames, velocities and accelerations go from the root to the leaves and "
+            "forces back from the leaves to the root (RNEA gives $b$ and $g$); the composite "
+            "inertias of the subtrees give $M$ (CRBA).",
+            forms.result(),
+            "recursive",
+        )
+    ]
 
 
 def lagrange(forms: Forms) -> list[Step]:
     method, eom = "lagrange", forms.eom
     T, U = eom.compact["T"], eom.compact["U"]
     T_form, U_form = forms(T), forms(U)
-    steps = [forms.step("Energies",
-                        r"The kinetic energy $T = \sum \frac{1}{2} m v_S^T v_S + \frac{1}{2} \Omega^T \Theta "
-                        r"\Omega$ and the potential energy $U$ of gravity ($U = -\sum m \vec g^T r_S$) and of the "
-                        "springs.", {"T": T_form, "U": U_form}, method)]
+    steps = [
+        forms.step(
+            "Energies",
+            r"The kinetic energy $T = \sum \frac{1}{2} m v_S^T v_S + \frac{1}{2} \Omega^T \Theta "
+            r"\Omega$ and the potential energy $U$ of gravity ($U = -\sum m \vec g^T r_S$) and of the "
+            "springs.",
+            {"T": T_form, "U": U_form},
+            method,
+        )
+    ]
     if not any(isinstance(j, FreeFlyer) for j in eom.system.joints):  # q̇ = u: plain derivatives
-        derivatives = _energy_derivatives(forms, T_form, U_form) if forms.form != "shared" else \
-            _energy_derivatives_shared(forms, T, U)
-        steps.append(forms.step(
-            "Derivatives of the energies",
-            r"Lagrange's equations $\frac{d}{dt} \frac{\partial T}{\partial \dot q} - "
-            r"\frac{\partial T}{\partial q} + \frac{\partial U}{\partial q} = \tau$ need these derivatives.",
-            derivatives, method))
-    steps.append(forms.step("Lagrange's equations",
-                            r"The terms of $\frac{d}{dt} \frac{\partial T}{\partial \dot q}$ in $\ddot q$ give "
-                            r"$M$; the rest of $\frac{d}{dt} \frac{\partial T}{\partial \dot q} - \frac{\partial T}{\partial q}$ "
-                            r"gives $b$; $\frac{\partial U}{\partial q}$ of gravity gives $g$; springs and the "
-                            r"other loads give $\tau$.", forms.result(), method))
+        derivatives = (
+            _energy_derivatives(forms, T_form, U_form)
+            if forms.form != "shared"
+            else _energy_derivatives_shared(forms, T, U)
+        )
+        steps.append(
+            forms.step(
+                "Derivatives of the energies",
+                r"Lagrange's equations $\frac{d}{dt} \frac{\partial T}{\partial \dot q} - "
+                r"\frac{\partial T}{\partial q} + \frac{\partial U}{\partial q} = \tau$ need these"
+                r" derivatives.",
+                derivatives,
+                method,
+            )
+        )
+    steps.append(
+        forms.step(
+            "Lagrange's equations",
+            r"The terms of $\frac{d}{dt} \frac{\partial T}{\partial \dot q}$ in $\ddot q$ give "
+            r"$M$; the rest of $\frac{d}{dt} \frac{\partial T}{\partial \dot q} - \frac{\partial"
+            r" T}{\partial q}$ "
+            r"gives $b$; $\frac{\partial U}{\partial q}$ of gravity gives $g$; springs and the "
+            r"other loads give $\tau$.",
+            forms.result(),
+            method,
+        )
+    )
     return steps
 
 
@@ -147,8 +187,12 @@ def _energy_derivatives(forms: Forms, T: sp.Expr, U: sp.Expr) -> dict:
     simplify = forms.simplifier.matrix
     p = simplify(sp.Matrix([T.diff(x) for x in u]))
     dp = p.applyfunc(lambda e: sum(e.diff(x) * y for x, y in zip(q + u, u + ud)))
-    return {"dT/du": p, "d/dt dT/du": simplify(dp), "dT/dq": simplify(sp.Matrix([T.diff(x) for x in q])),
-            "dU/dq": simplify(sp.Matrix([U.diff(x) for x in q]))}
+    return {
+        "dT/du": p,
+        "d/dt dT/du": simplify(dp),
+        "dT/dq": simplify(sp.Matrix([T.diff(x) for x in q])),
+        "dU/dq": simplify(sp.Matrix([U.diff(x) for x in q])),
+    }
 
 
 def _energy_derivatives_shared(forms: Forms, T: sp.Expr, U: sp.Expr) -> dict:
@@ -156,11 +200,19 @@ def _energy_derivatives_shared(forms: Forms, T: sp.Expr, U: sp.Expr) -> dict:
     sub, kin = forms.sub, forms.kin
     q, u, ud = list(forms.eom.q), list(forms.eom.u), list(forms.eom.system.ud)
     p = sp.Matrix([sub.add(sub.derivative(T, {x: 1}, ("u", j))) for j, x in enumerate(u)])
-    dp = sp.Matrix([sub.derivative(e, kin.time_seeds, TIME) + sum(
-        sub.derivative(e, {x: 1}, ("u", j)) * a for j, (x, a) in enumerate(zip(u, ud))) for e in p])
-    return {"dT/du": p, "d/dt dT/du": dp,
-            "dT/dq": sp.Matrix([sub.derivative(T, {x: 1}, ("q", j)) for j, x in enumerate(q)]),
-            "dU/dq": sp.Matrix([sub.derivative(U, {x: 1}, ("q", j)) for j, x in enumerate(q)])}
+    dp = sp.Matrix(
+        [
+            sub.derivative(e, kin.time_seeds, TIME)
+            + sum(sub.derivative(e, {x: 1}, ("u", j)) * a for j, (x, a) in enumerate(zip(u, ud)))
+            for e in p
+        ]
+    )
+    return {
+        "dT/du": p,
+        "d/dt dT/du": dp,
+        "dT/dq": sp.Matrix([sub.derivative(T, {x: 1}, ("q", j)) for j, x in enumerate(q)]),
+        "dU/dq": sp.Matrix([sub.derivative(U, {x: 1}, ("q", j)) for j, x in enumerate(q)]),
+    }
 
 
 def free_cut(forms: Forms) -> list[Step]:
@@ -171,11 +223,17 @@ def free_cut(forms: Forms) -> list[Step]:
     results = forms.result()
     wrenches = eom.extras["reactions"]
     results.update({f"reaction[{joint}]": forms(W) for joint, W in wrenches.items()})
-    steps.append(forms.step("Elimination of the reactions",
-                            r"Eliminating the reactions from the leaves to the root leaves one equation per "
-                            r"joint, along the direction it lets move: $M$, $b$, $g$, $\tau$; the reactions follow "
-                            r"(force, then torque, at the joint origin in world axes, in $q$, $\dot q$, $\ddot q$ "
-                            r"and the loads).", results, method))
+    steps.append(
+        forms.step(
+            "Elimination of the reactions",
+            r"Eliminating the reactions from the leaves to the root leaves one equation per "
+            r"joint, along the direction it lets move: $M$, $b$, $g$, $\tau$; the reactions follow "
+            r"(force, then torque, at the joint origin in world axes, in $q$, $\dot q$, $\ddot q$ "
+            r"and the loads).",
+            results,
+            method,
+        )
+    )
     return steps
 
 
@@ -187,23 +245,36 @@ def _cut(forms: Forms) -> Step:
     forces = per_body - (1 if cut.planar_normal is not None else 3)
     expressions = {}
     for k, b in enumerate(eom.system.bodies):
-        rows = [forms.simplifier(e) for e in cut.dynamic[k * per_body:(k + 1) * per_body]]
+        rows = [forms.simplifier(e) for e in cut.dynamic[k * per_body : (k + 1) * per_body]]
         expressions[f"Newton[{b.name}]"] = sp.Matrix(rows[:forces])
         expressions[f"Euler[{b.name}]"] = sp.Matrix(rows[forces:])
-    plane = "" if cut.planar_normal is None else (
-        f" The motion stays in the plane normal to the world's ${'xyz'[cut.planar_normal]}$ axis, so each "
-        "body keeps 3 equations (2 forces, 1 moment).")
-    expressions.update({"equations": sp.Integer(len(cut.equations)), "unknowns": sp.Matrix(cut.unknowns),
-                        "equations with kinematics": sp.Integer(len(eqs)),
-                        "unknowns with kinematics": sp.Integer(len(unknowns))})
-    return forms.step("Cut free",
-                      r"Every body is cut free; the joints' reaction forces and torques enter as unknowns. "
-                      r"Newton $m a_S - m \vec g - F = 0$ and Euler $\Theta \alpha + \Omega \times \Theta \Omega "
-                      rf"- T = 0$ about the centre of mass.{plane} {len(cut.equations)} dynamic equations in "
-                      rf"{len(cut.unknowns)} unknowns (the reactions and $\ddot q$); {len(eqs)} equations in "
-                      rf"{len(unknowns)} unknowns with the kinematic relations of the accelerations "
-                      r"$a_S = J_P \ddot q + \dot J_P \dot q$, $\alpha = J_R \ddot q + \dot J_R \dot q$.",
-                      expressions, "free_cut")
+    plane = (
+        ""
+        if cut.planar_normal is None
+        else (
+            f" The motion stays in the plane normal to the world's ${'xyz'[cut.planar_normal]}$ axis, so"
+            " each body keeps 3 equations (2 forces, 1 moment)."
+        )
+    )
+    expressions.update(
+        {
+            "equations": sp.Integer(len(cut.equations)),
+            "unknowns": sp.Matrix(cut.unknowns),
+            "equations with kinematics": sp.Integer(len(eqs)),
+            "unknowns with kinematics": sp.Integer(len(unknowns)),
+        }
+    )
+    return forms.step(
+        "Cut free",
+        r"Every body is cut free; the joints' reaction forces and torques enter as unknowns. "
+        r"Newton $m a_S - m \vec g - F = 0$ and Euler $\Theta \alpha + \Omega \times \Theta \Omega "
+        rf"- T = 0$ about the centre of mass.{plane} {len(cut.equations)} dynamic equations in "
+        rf"{len(cut.unknowns)} unknowns (the reactions and $\ddot q$); {len(eqs)} equations in "
+        rf"{len(unknowns)} unknowns with the kinematic relations of the accelerations "
+        r"$a_S = J_P \ddot q + \dot J_P \dot q$, $\alpha = J_R \ddot q + \dot J_R \dot q$.",
+        expressions,
+        "free_cut",
+    )
 
 
 def contacts(forms: Forms) -> Step:
@@ -211,7 +282,7 @@ def contacts(forms: Forms) -> Step:
     system, kin = forms.eom.system, forms.kin
     expressions = {"S": system.S}
     if system.contacts:
-        rows = [kin.jacobian(c.frame)[:3 if c.kind == "point" else 6, :] for c in system.contacts]
+        rows = [kin.jacobian(c.frame)[: 3 if c.kind == "point" else 6, :] for c in system.contacts]
         expressions["J_c"] = forms(sp.Matrix.vstack(*rows))
         n, k = len(system.u), sum(r.rows for r in rows)
         M, J = sp.MatrixSymbol("M", n, n), sp.MatrixSymbol("J_c", k, n)
@@ -228,4 +299,6 @@ def contacts(forms: Forms) -> Step:
         r"($h = S^T \tau + \tau_{loads} - b - g$); the support projector $N_c$ ($J_c N_c = 0$) gives the "
         r"support-consistent dynamics $N_c^T (M \ddot q + b + g) = N_c^T S^T \tau$. Both involve $M^{-1}$: "
         r"eomgen evaluates them numerically (`f.constrained_dynamics`, `f.support_projector`), never by "
-        r"symbolic inversion.", expressions)
+        r"symbolic inversion.",
+        expressions,
+    )

@@ -7,6 +7,7 @@ normal form goes through `fu`'s TR10i (products back to sums of angles: cos q₂
 → cos(q₂ + q₃)) and is grouped by the bodies' masses with the common factors pulled out:
 I₂ + m₂ l_c2 (l₁ cos q₂ + l_c2). Entries larger than `max_ops`, or met after `seconds` of work, are
 left as they are; the document shows them in the shared form (see `shared`)."""
+
 from __future__ import annotations
 
 import time
@@ -36,7 +37,9 @@ def trig_normal(expr: sp.Expr) -> sp.Expr:
     angles = sorted({f.args[0] for f in expr.atoms(sp.sin, sp.cos)}, key=sp.default_sort_key)
     c = [sp.Dummy(f"c{k}") for k in range(len(angles))]
     s = [sp.Dummy(f"s{k}") for k in range(len(angles))]
-    plain = expr.xreplace({**{sp.cos(a): x for a, x in zip(angles, c)}, **{sp.sin(a): x for a, x in zip(angles, s)}})
+    plain = expr.xreplace(
+        {**{sp.cos(a): x for a, x in zip(angles, c)}, **{sp.sin(a): x for a, x in zip(angles, s)}}
+    )
     others = sorted(plain.free_symbols - set(c) - set(s), key=sp.default_sort_key)
     try:
         R, *gens = ring(c + s + others, QQ, lex)  # cᵢ² leads cᵢ² + sᵢ² − 1
@@ -51,9 +54,10 @@ def trig_normal(expr: sp.Expr) -> sp.Expr:
 
 def _trig_normal_expand(expr: sp.Expr) -> sp.Expr:
     expr = sp.expand(expr)
-    expr = expr.replace(lambda x: x.is_Pow and isinstance(x.base, sp.cos) and x.exp.is_Integer and x.exp >= 2,
-                        lambda x: sp.cos(x.base.args[0]) ** (x.exp % 2)
-                        * (1 - sp.sin(x.base.args[0]) ** 2) ** (x.exp // 2))
+    expr = expr.replace(
+        lambda x: x.is_Pow and isinstance(x.base, sp.cos) and x.exp.is_Integer and x.exp >= 2,
+        lambda x: sp.cos(x.base.args[0]) ** (x.exp % 2) * (1 - sp.sin(x.base.args[0]) ** 2) ** (x.exp // 2),
+    )
     return sp.expand(expr)
 
 
@@ -109,7 +113,9 @@ def _by_angle(expr: sp.Expr) -> sp.Expr:
     2 l₁ l₂ q̇₁ q̇₂ sin q₂ + l₁ l₂ q̇₂² sin q₂ → l₁ l₂ q̇₂ (2 q̇₁ + q̇₂) sin q₂."""
     trig = sorted(expr.atoms(sp.sin, sp.cos), key=sp.default_sort_key)
     parts = sp.collect(sp.expand(expr), trig, evaluate=False) if trig else {sp.Integer(1): expr}
-    return sp.Add(*[k * (sp.factor(v) if sp.count_ops(v) < 200 else sp.factor_terms(v)) for k, v in parts.items()])
+    return sp.Add(
+        *[k * (sp.factor(v) if sp.count_ops(v) < 200 else sp.factor_terms(v)) for k, v in parts.items()]
+    )
 
 
 def operations(expr) -> int:
