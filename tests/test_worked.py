@@ -371,3 +371,43 @@ def test_errors_name_the_problem():
         eg.solution(eg.derive(system))
     with pytest.raises(eg.ModelError, match="expected"):
         eg.solution("system")
+
+
+def test_floating_base_step_against_pinocchio():
+    """A free-flyer body with a leg standing on a point contact: S = [0 I] by hand, the printed J_c
+    (through its shared definitions) equals Pinocchio's frame Jacobian built with its own API."""
+    import numpy as np
+    import pinocchio as pin
+
+    system = eg.System(gravity=(0, 0, -9.81))
+    base = system.add_body("base", joint=eg.FreeFlyer("root"), mass=2.0, inertia=sp.diag(0.1, 0.2, 0.3))
+    leg = system.add_body("leg", parent=base, joint=eg.Revolute("knee", axis=(0, 1, 0)), mass=0.5,
+                          com=(0, 0, -0.2), inertia=sp.diag(0.01, 0.01, 0.001),
+                          placement=eg.Placement(translation=(0.1, 0, 0)))
+    system.add_frame("foot", body=leg, placement=eg.Placement(translation=(0, 0, -0.4)))
+    system.add_contact("foot", "point")
+    sol = eg.solution(system, methods=("projected_newton_euler", "recursive"))
+    step = next(s for s in sol.steps if s.title == "Floating base and contacts")
+    assert step["S"] == sp.Matrix([[0] * 6 + [1]])
+    assert {"F_c", "N_c"} <= set(step.expressions)
+    comparison = sol.steps[-1]
+    assert all(float(v) < 1e-10 for v in comparison.expressions.values())
+
+    model = pin.Model()
+    root = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "root")
+    model.appendBodyToJoint(root, pin.Inertia(2.0, np.zeros(3), np.diag([0.1, 0.2, 0.3])), pin.SE3.Identity())
+    knee = model.addJoint(root, pin.JointModelRY(), pin.SE3(np.eye(3), np.array([0.1, 0, 0])), "knee")
+    model.appendBodyToJoint(knee, pin.Inertia(0.5, np.array([0, 0, -0.2]), np.diag([0.01, 0.01, 0.001])),
+                            pin.SE3.Identity())
+    foot = model.addFrame(pin.Frame("foot", knee, 0, pin.SE3(np.eye(3), np.array([0, 0, -0.4])),
+                                    pin.FrameType.OP_FRAME))
+    data = model.createData()
+    q = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+    J = pin.getFrameJacobian(model, data, foot, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)[:3]
+    values = dict(zip(system.q, q))
+    for symbol, definition in step.shared:
+        values[symbol] = definition.xreplace(values).evalf()
+    J_c = np.array(step["J_c"].xreplace(values).evalf(), dtype=float)
+    assert np.allclose(J_c, J, atol=1e-12), (J_c, J)
