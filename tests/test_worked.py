@@ -287,6 +287,7 @@ def test_numbers_from_a_file_print_as_decimals():
     assert latex(sp.Rational(1, 2)) == r"\frac{1}{2}"
     assert latex(sp.Float(0.123456789), digits=3) == "0.123"
     robot = eg.robots.load("ur5")
+    assert latex(robot.u[0]) == r"\dot{q}_{\mathrm{shoulder\_pan\_joint}}"  # a visible dot on a long name
     text = eg.solution(robot, methods=("recursive",)).markdown(digits=3)
     assert "9007199254740992" not in text and r"\frac{" not in text.split("## Kinematics")[0]
 

@@ -27,7 +27,10 @@ class Printer(LatexPrinter):
     def _print_Symbol(self, expr, style="plain"):
         tag = getattr(expr, "tag", None) if isinstance(expr, Generated) else None
         if isinstance(tag, tuple) and len(tag) == 2 and tag[0] in ("dot", "ddot"):
-            base, sub = _split_subscript(self._print(tag[1]))
+            inner = self._print(tag[1])
+            if inner.startswith(r"\mathrm"):  # a long name: q̇ with the name as subscript, readable
+                return rf"\{tag[0]}{{q}}_{{{inner}}}"
+            base, sub = _split_subscript(inner)
             return rf"\{tag[0]}{{{base}}}{sub}"
         if isinstance(tag, tuple) and len(tag) == 3 and tag[0] in CUT:  # free cut: a, α, F, T of a body
             return rf"{CUT[tag[0]]}_{{{text(tag[1])},{tag[2]}}}"
