@@ -42,6 +42,7 @@ def main() -> None:
     ap.add_argument("--out", default=results_io.default_path("tradeoff"))
     args = ap.parse_args()
     rows, c = [], c_available()
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)  # the plots go beside the JSON
     for name in args.names:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
