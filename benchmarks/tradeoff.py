@@ -1,6 +1,7 @@
 """The speed-accuracy trade of ur5 and talos (eg.tradeoff): per variant, derivation time, operations,
-evaluation time per state (batched NumPy), max error of M, b, g, u̇ and RMS error of u̇ against the
-full float64 model. Prints the tables, writes JSON and a Pareto plot per robot.
+evaluation time per state (batched NumPy, and C when a C compiler is found), max error of M, b, g, u̇
+and RMS error of u̇ against the full float64 model. Prints the tables, writes JSON and a Pareto plot per
+robot.
 
 The closed-form levels (nothing shared, sympy CSE, trigsimp) need the closed forms of M, b, g: for
 ur5 b alone has ~1.3e5 operations closed; talos's closed forms are too large to form, so talos gets
@@ -16,12 +17,21 @@ from dataclasses import asdict
 from pathlib import Path
 
 import eomgen as eg
+from eomgen.codegen.extension import compiler, python_headers
 from eomgen.tradeoff import HEADER, pareto_plot
 
 sys.path.insert(0, str(Path(__file__).parent))
 import results_io  # noqa: E402
 
 LEVELS = {"ur5": ("closed", "cse", "trig"), "talos": ()}
+
+
+def c_available() -> bool:
+    try:
+        compiler(), python_headers()
+    except eg.ModelError:
+        return False
+    return True
 
 
 def main() -> None:
@@ -31,19 +41,20 @@ def main() -> None:
     ap.add_argument("--trig-max-ops", type=int, default=300)
     ap.add_argument("--out", default=results_io.default_path("tradeoff"))
     args = ap.parse_args()
-    rows = []
+    rows, c = [], c_available()
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)  # the plots go beside the JSON
     for name in args.names:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             system = eg.robots.load(name)
         variants = eg.tradeoff(system, states=args.states, levels=LEVELS.get(name, ("closed", "cse", "trig")),
-                               trig_max_ops=args.trig_max_ops)
+                               trig_max_ops=args.trig_max_ops, c=c)
         print(f"\n{name}\n{HEADER}")
         for v in variants:
             print(v.row(), flush=True)
             rows.append({"robot": name, **asdict(v)})
         pareto_plot(variants, Path(args.out).with_name(f"pareto_{name}.png"), name)
-    results_io.write(args.out, "tradeoff", rows, states=args.states, trig_max_ops=args.trig_max_ops)
+    results_io.write(args.out, "tradeoff", rows, states=args.states, trig_max_ops=args.trig_max_ops, c=c)
 
 
 if __name__ == "__main__":

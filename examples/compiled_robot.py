@@ -5,10 +5,11 @@
 2. Gravity compensation derives and compiles g alone; a controller gets plain C with no Python
    (`write_c`), here for g and the tool frame's Jacobian.
 
-Run: python examples/compiled_robot.py [output folder for the C files, default ./ur5_c]"""
+Run: python examples/compiled_robot.py [folder for the C files, default examples/output/ur5_c]"""
 import sys
 import time
 import timeit
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -20,7 +21,10 @@ def per_call(fn) -> float:
     return min(timeit.repeat(fn, number=1000, repeat=5)) / 1000 * 1e6
 
 
-def main(folder: str = "ur5_c") -> None:
+OUTPUT = Path(__file__).parent / "output"
+
+
+def main(folder: str = str(OUTPUT / "ur5_c")) -> None:
     system = eg.robots.load("ur5")
     t0 = time.perf_counter()
     f = eg.codegen(eg.derive(system, method="recursive"), backend="c")

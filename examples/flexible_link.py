@@ -3,8 +3,9 @@ manipulators": one Euler-Bernoulli element,
 q = [θ, u₃, u₄] (joint angle, tip deflection and slope), m = 5 kg over L = 1 m, gravity 9.81, derived
 by Lagrange II without linearization; then a free swing from the horizontal, plotted to PNG.
 
-Run: python examples/flexible_link.py [--out flexible_link.png]"""
+Run: python examples/flexible_link.py [--out PNG, default examples/output/flexible_link.png]"""
 import argparse
+from pathlib import Path
 
 import numpy as np
 import sympy as sp
@@ -39,7 +40,7 @@ def simulate(EI_value: float = 50.0, seconds: float = 3.0, elements: int = 1):
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--out", default="flexible_link.png")
+    ap.add_argument("--out", default=str(Path(__file__).parent / "output" / "flexible_link.png"))
     args = ap.parse_args()
     eom = eg.derive(flexible_link(), method="lagrange")
     print("q =", list(eom.q))
@@ -62,6 +63,7 @@ def main() -> None:
     ax2.set_xlabel("t [s]")
     ax2.legend()
     fig.suptitle("Flexible link, one element, m = 5 kg, L = 1 m, EI = 50 N m²")
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(args.out, dpi=100)
     print(f"plot: {args.out}")
 

@@ -62,6 +62,8 @@ def main(argv: list[str] | None = None) -> int:
     tr.add_argument("--json", help="write the table as JSON here")
     tr.add_argument("--levels", default="closed,cse,trig", help="simplification levels to include (comma-separated)")
     tr.add_argument("--trig-max-ops", type=int, default=300, help="trigsimp only closed-form entries this small")
+    tr.add_argument("--c", action="store_true",
+                    help="also time the variants compiled from C (needs a C compiler)")
     gen = sub.add_parser("generate", help="write a numpy-only Python module, or plain C for a controller")
     gen.add_argument("robot", help="example-robot-data name or URDF path")
     gen.add_argument("-o", "--output", required=True, help="the .py file to write (with --c: the folder)")
@@ -94,7 +96,8 @@ def main(argv: list[str] | None = None) -> int:
             from .tradeoff import HEADER, pareto_plot, tradeoff
 
             levels = [x for x in args.levels.split(",") if x]
-            variants = tradeoff(system, states=args.states, levels=levels, trig_max_ops=args.trig_max_ops)
+            variants = tradeoff(system, states=args.states, levels=levels, trig_max_ops=args.trig_max_ops,
+                                c=args.c)
             print(HEADER)
             for v in variants:
                 print(v.row())

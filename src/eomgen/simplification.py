@@ -13,6 +13,7 @@ import sympy as sp
 from .eom import EquationsOfMotion
 from .errors import ModelError
 from .kinematics import Kinematics
+from .progress import progress
 
 LEVELS = ("closed", "cse", "trig")
 
@@ -26,8 +27,9 @@ def simplified(eom: EquationsOfMotion, level: str, max_ops: int = 3000) -> Equat
     extras = {}
     if level == "trig":
         small = {k: [sp.count_ops(e) <= max_ops for e in M] for k, M in closed.items()}
-        closed = {k: sp.Matrix(M.shape[0], M.shape[1], [sp.trigsimp(e) if s else e for e, s in zip(M, small[k])])
-                  for k, M in closed.items()}
+        for k, M in closed.items():
+            entries = progress(zip(M, small[k]), f"trigsimp of {k}", total=len(M), unit="entry")
+            closed[k] = sp.Matrix(M.shape[0], M.shape[1], [sp.trigsimp(e) if s else e for e, s in entries])
         extras["trigsimp_entries"] = (sum(map(sum, small.values())), sum(map(len, small.values())))
     kin = Kinematics(eom.system)  # a fresh set of intermediates
     if level != "closed":

@@ -1,7 +1,8 @@
 """The speed-accuracy trade, measured: variants of one model side by side, each with its derivation
-time, operation count, evaluation time per state (batched NumPy), and the maximum and RMS relative
-error of M, b, g and of the forward-dynamics acceleration against the full float64 model over a fixed
-set of random states (u̇ with zero joint torques).
+time, operation count, evaluation time per state (batched NumPy; with `c=True` compiled C too), and the
+maximum and RMS relative error (and the maximum absolute error) of M, b, g and of the forward-dynamics
+acceleration against the full float64 model over a fixed set of random states (u̇ with zero joint
+torques). `pareto_plot` draws the error of u̇ against the evaluation time.
 
 Variants: the simplification level of the code (eomgen's shared intermediates; the closed forms with
 nothing shared; sympy's CSE of them; trigsimp of the closed-form entries then CSE), the derivation
@@ -17,7 +18,8 @@ import sympy as sp
 
 from .codegen import codegen
 from .methods import derive
-from .model import System
+from .model import Fixed, Prismatic, Revolute, System
+from .progress import progress
 from .simplification import LEVELS, simplified
 from .state import random_states
 
@@ -32,16 +34,34 @@ class Variant:
     ops: int
     eval_us_per_state: float
     errors: dict = field(default_factory=dict)  # quantity -> (max, rms) relative error
+    abs_errors: dict = field(default_factory=dict)  # quantity -> max absolute error
+    c_us_per_state: float | None = None  # compiled from C (tradeoff(c=True); float32: none, C is float64)
 
     def row(self) -> str:
         """The variant as a line of the table under `HEADER`."""
-        e = self.errors
+        e, c = self.errors, self.c_us_per_state
         return (f"{self.name:34s} {self.derive_seconds:7.2f} {self.ops:7d} {self.eval_us_per_state:8.2f} "
-                + " ".join(f"{e[k][0]:9.1e}" for k in ("M", "b", "g", "ud")) + f" {e['ud'][1]:9.1e}")
+                + " ".join(f"{e[k][0]:9.1e}" for k in ("M", "b", "g", "ud")) + f" {e['ud'][1]:9.1e}"
+                + (f" {c:8.2f}" if c is not None else f" {'-':>8s}"))
 
 
 HEADER = (f"{'variant':34s} {'derive':>7s} {'ops':>7s} {'µs/state':>8s} {'max M':>9s} {'max b':>9s} "
-          f"{'max g':>9s} {'max u̇':>9s} {'rms u̇':>9s}")
+          f"{'max g':>9s} {'max u̇':>9s} {'rms u̇':>9s} {'C µs':>8s}")
+
+
+class Variants(list):
+    """The variants of one run (a list of `Variant`), with the number of states and the unit of u̇."""
+
+    def __init__(self, variants, states: int, unit: str) -> None:
+        super().__init__(variants)
+        self.states, self.unit = states, unit
+
+
+def acceleration_unit(system: System) -> str:
+    """The unit of u̇'s entries: rad/s² (revolute), m/s² (prismatic), both (free flyer, flexible link)."""
+    kinds = {Revolute: ("rad/s²",), Prismatic: ("m/s²",), Fixed: ()}
+    units = {x for j in system.joints for x in kinds.get(type(j), ("rad/s²", "m/s²"))}
+    return ", ".join(sorted(units, reverse=True)) or "rad/s²"
 
 
 def _relative(values, ref) -> tuple[float, float]:
@@ -56,10 +76,21 @@ def _numbers(expr) -> float:
 
 def tradeoff(system: System, states: int = 200, seed: int = 0, mass_fraction: float = 0.05,
              inertia_fraction: float = 0.05, lock: dict | None = None, levels=LEVELS,
-             trig_max_ops: int = 300) -> list[Variant]:
+             trig_max_ops: int = 300, c: bool = False) -> Variants:
     """Measure the variants of a numeric, fixed- or floating-base `system` (see the module doc).
     `levels`: the simplification levels to include (trigsimp is slow: it gets only the closed-form
-    entries of at most `trig_max_ops` operations)."""
+    entries of at most `trig_max_ops` operations). `c`: also time each variant compiled from C
+    (batched, best of 3; needs a C compiler, and compiles every variant)."""
+    if lock is None and system.nv > 1 and not system.floating_base:
+        lock = {system.joints[-1].name: 0.0}
+    runs = _variants(system, states, seed, mass_fraction, inertia_fraction, lock, levels, trig_max_ops, c)
+    count = 7 + len(levels) + bool(lock)
+    done = progress(runs, "trade-off", total=count, unit="variant")
+    return Variants(done, states, acceleration_unit(system))
+
+
+def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, levels, trig_max_ops, with_c):
+    """The variants of `tradeoff`, one at a time."""
     rng = np.random.default_rng(seed)
     q, u, _ = random_states(system, states, rng)
 
@@ -78,20 +109,38 @@ def tradeoff(system: System, states: int = 200, seed: int = 0, mass_fraction: fl
         seconds = time.perf_counter() - t0
         return [np.moveaxis(o, (0, 1), (-2, -1)).astype(float) for o in outs], seconds / len(q_) * 1e6
 
+    def c_timing(f, q_, u_, keys=("M", "b", "g"), compiled=None):
+        """µs per state of `keys` compiled from C (batched, best of 3), None unless `with_c`."""
+        if not with_c:
+            return None
+        fc = compiled or codegen(f.eom, backend="c")
+        calls = [(fc.functions[k].function, fc._pvec(None, k)) for k in keys]
+        best = np.inf
+        for _ in range(3):
+            t0 = time.perf_counter()
+            for function, p in calls:
+                function(q_, u_, None, p)
+            best = min(best, time.perf_counter() - t0)
+        return best / len(q_) * 1e6
+
     full, t_full = build(system)
     (M0, b0, g0), us = timing(full, q, u)
     b0, g0 = b0[..., 0], g0[..., 0]
     ud0 = np.linalg.solve(M0, -(b0 + g0)[..., None])[..., 0]
+    full_c = codegen(full.eom, backend="c") if with_c else None
 
-    def variant(name, f, seconds, M, b, g, us_, rows=slice(None), ud=None):
+    def variant(name, f, seconds, M, b, g, us_, c_us, rows=slice(None), ud=None):
         if ud is None:  # pinv: an approximate model may lose rank (point masses on a joint axis)
             ud = (np.linalg.pinv(M) @ -(b + g)[..., None])[..., 0]
         idx = np.arange(system.nv)[rows]
-        errors = {"M": _relative(M, M0[:, idx][:, :, idx]), "b": _relative(b, b0[:, idx]),
-                  "g": _relative(g, g0[:, idx]), "ud": _relative(ud, ud0[:, idx])}
-        return Variant(name, seconds, sum(f.ops[k] for k in ("M", "b", "g")), us_, errors)
+        pairs = {"M": (M, M0[:, idx][:, :, idx]), "b": (b, b0[:, idx]), "g": (g, g0[:, idx]),
+                 "ud": (ud, ud0[:, idx])}
+        errors = {k: _relative(x, ref) for k, (x, ref) in pairs.items()}
+        absolute = {k: float(np.abs(np.asarray(x) - ref).max()) for k, (x, ref) in pairs.items()}
+        return Variant(name, seconds, sum(f.ops[k] for k in ("M", "b", "g")), us_, errors, absolute, c_us)
 
-    out = [variant("full model (recursive, float64)", full, t_full, M0, b0, g0, us)]
+    yield variant("full model (recursive, float64)", full, t_full, M0, b0, g0, us,
+                  c_timing(full, q, u, compiled=full_c))
     titles = {"closed": "closed forms, nothing shared", "cse": "closed forms + sympy CSE", "trig": "trigsimp"}
     for level in levels:
         t0 = time.perf_counter()
@@ -102,14 +151,16 @@ def tradeoff(system: System, states: int = 200, seed: int = 0, mass_fraction: fl
         if level == "trig":
             done, total = f.eom.extras["trigsimp_entries"]
             title = f"trigsimp ({done}/{total} entries) + CSE"
-        out.append(variant(title, f, seconds, M, b[..., 0], g[..., 0], us_l))
+        yield variant(title, f, seconds, M, b[..., 0], g[..., 0], us_l, c_timing(f, q, u))
     pne, t_pne = build(system, "projected_newton_euler")
     (M, b, g), us_pne = timing(pne, q, u)
-    out.append(variant("projected Newton-Euler code", pne, t_pne, M, b[..., 0], g[..., 0], us_pne))
+    yield variant("projected Newton-Euler code", pne, t_pne, M, b[..., 0], g[..., 0], us_pne,
+                  c_timing(pne, q, u))
     (M, b, g), us32 = timing(full, q, u, np.float32)
-    out.append(variant("float32", full, t_full, M, b[..., 0], g[..., 0], us32))
+    yield variant("float32", full, t_full, M, b[..., 0], g[..., 0], us32, None)  # C is float64 only
     _, us_no_b = timing(full, q, u, keys=("M", "g"))  # b is not evaluated at all
-    out.append(variant("Coriolis and centrifugal neglected", full, t_full, M0, 0 * b0, g0, us_no_b))
+    yield variant("Coriolis and centrifugal neglected", full, t_full, M0, 0 * b0, g0, us_no_b,
+                  c_timing(full, q, u, ("M", "g"), full_c))
     masses = [_numbers(b.mass) for b in system.bodies]
     light = mass_fraction * max(masses)
     for name, change in [
@@ -121,9 +172,7 @@ def tradeoff(system: System, states: int = 200, seed: int = 0, mass_fraction: fl
              max(abs(_numbers(x)) for x in c.inertia) for c in system.bodies) else {})]:
         f, seconds = build(system.rebuilt(change))
         (M, b, g), us_v = timing(f, q, u)
-        out.append(variant(name, f, seconds, M, b[..., 0], g[..., 0], us_v))
-    if lock is None and system.nv > 1 and not system.floating_base:
-        lock = {system.joints[-1].name: 0.0}
+        yield variant(name, f, seconds, M, b[..., 0], g[..., 0], us_v, c_timing(f, q, u))
     if lock:
         reduced = system.reduced(lock)
         keep = [k for k, j in enumerate(system.joints) if j.name not in lock]
@@ -135,25 +184,139 @@ def tradeoff(system: System, states: int = 200, seed: int = 0, mass_fraction: fl
         b0, g0 = b0[..., 0], g0[..., 0]
         ud0 = np.linalg.solve(M0, -(b0 + g0)[..., None])[..., 0]
         f, seconds = build(reduced)
-        (M, b, g), us_r = timing(f, q_l[:, keep], u_l[:, keep])
-        out.append(variant(f"joints locked: {', '.join(lock)}", f, seconds, M, b[..., 0], g[..., 0], us_r, keep))
-    return out
+        q_r, u_r = np.ascontiguousarray(q_l[:, keep]), np.ascontiguousarray(u_l[:, keep])
+        (M, b, g), us_r = timing(f, q_r, u_r)
+        yield variant(f"joints locked: {', '.join(lock)}", f, seconds, M, b[..., 0], g[..., 0], us_r,
+                      c_timing(f, q_r, u_r), keep)
 
 
-def pareto_plot(variants: list[Variant], path, title: str = "") -> None:
-    """Error of u̇ against evaluation time per state, log-log, as PNG."""
+def pareto_front(points) -> list[int]:
+    """Indices of the non-dominated (time, error) points, by increasing time: no other point is at
+    least as fast and as accurate, and better in one."""
+    order = sorted(range(len(points)), key=lambda k: points[k])
+    front, best = [], np.inf
+    for k in order:
+        if points[k][1] < best:
+            front.append(k)
+            best = points[k][1]
+    return front
+
+
+def pareto_plot(variants: Variants, path, robot: str = ""):
+    """Max absolute error of u̇ (zero torques) against the evaluation time of M, b, g per state, log-log:
+    NumPy, and C where measured (joined to NumPy by a line of the variant's colour), each with its
+    Pareto front, and one label per variant placed clear of the other labels, the markers, the lines
+    and the legend. Written as PNG to `path`; returns the Figure."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+
+    fig = Figure(figsize=(10, 6.5), dpi=110)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    errors = [v.abs_errors["ud"] for v in variants]
+    floor = min([e for e in errors if e > 0] or [1e-15]) / 10  # where an error of 0 is drawn
+    y = [max(e, floor) for e in errors]
+    colors = [_color(k) for k in range(len(variants))]
+    states = getattr(variants, "states", None)
+    points, segments, handles = [], [], []
+    for kind, times, marker, style in (("NumPy", [v.eval_us_per_state for v in variants], "o", "-"),
+                                       ("C", [v.c_us_per_state for v in variants], "s", "--")):
+        measured = [k for k, t in enumerate(times) if t is not None]
+        if not measured:
+            continue
+        ax.scatter([times[k] for k in measured], [y[k] for k in measured], c=[colors[k] for k in measured],
+                   marker=marker, s=36, zorder=3, edgecolors="black", linewidths=0.5)
+        front = [measured[k] for k in pareto_front([(times[k], y[k]) for k in measured])]
+        fx, fy = [times[k] for k in front], [y[k] for k in front]
+        ax.plot(fx, fy, drawstyle="steps-post", color="black", ls=style, lw=1, zorder=2,
+                gid=f"pareto front {kind}")
+        segments += [((a, b), (c, b)) for a, b, c in zip(fx, fy, fx[1:])]
+        segments += [((c, b), (c, d)) for b, c, d in zip(fy, fx[1:], fy[1:])]
+        points += [(times[k], y[k]) for k in measured]
+        handles += [Line2D([], [], ls="none", marker=marker, mfc="white", mec="black",
+                           label=f"{kind}" + (f", batches of {states} states" if states else "")),
+                    Line2D([], [], color="black", ls=style, lw=1, label=f"Pareto front, {kind}")]
+    for v, yv, color in zip(variants, y, colors):  # a variant's C and NumPy times, joined
+        if v.c_us_per_state is not None:
+            ax.plot([v.c_us_per_state, v.eval_us_per_state], [yv, yv], color=color, lw=0.8, alpha=0.6,
+                    zorder=1)
+            segments.append(((v.c_us_per_state, yv), (v.eval_us_per_state, yv)))
+    if floor in y:
+        ax.axhline(floor, color="0.6", ls=":", lw=0.8, zorder=0)
+    xs, ys = [p[0] for p in points], [p[1] for p in points]
+    ax.set_xlim(min(xs) / 3, max(xs) * 3)
+    ax.set_ylim(min(ys) / 100, max(ys) * 30)
+    ax.set_xlabel("evaluation time of M, b and g [µs per state]")
+    ax.set_ylabel(f"max |u̇ − u̇ of the full model| [{getattr(variants, 'unit', 'rad/s²')}]")
+    ax.set_title(f"{robot + ': ' if robot else ''}error of the acceleration u̇ = M⁻¹ (−b − g) against "
+                 f"evaluation time{f', {states} random states' if states else ''}", fontsize=10)
+    ax.grid(True, which="major", lw=0.4, alpha=0.5)
+    legend = ax.legend(handles=handles, loc="upper right", fontsize=7, framealpha=0.9)
+    fig.tight_layout()
+    names = [v.name + (" (error 0)" if e == 0 else "") for v, e in zip(variants, errors)]
+    anchors = list(zip([v.eval_us_per_state for v in variants], y))
+    _place_labels(ax, anchors, names, colors, points, segments, legend)
+    fig.savefig(path)
+    return fig
+
+
+def _color(k: int):
+    """Distinct colours: tab20's dark ones, then its light ones."""
     import matplotlib
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    return matplotlib.colormaps["tab20"]((2 * k) % 20 + (2 * k) // 20)
 
-    fig, ax = plt.subplots(figsize=(7, 5))
-    for v in variants:
-        err = max(v.errors["ud"][0], 1e-17)
-        ax.loglog(v.eval_us_per_state, err, "o")
-        ax.annotate(v.name, (v.eval_us_per_state, err), fontsize=7, xytext=(4, 2), textcoords="offset points")
-    ax.set_xlabel("evaluation time of M, b, g per state [µs] (batched NumPy)")
-    ax.set_ylabel("max relative error of u̇")
-    ax.set_title(title or "speed against accuracy")
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
+
+def _place_labels(ax, anchors, names, colors, points, segments, legend) -> None:
+    """One label per anchor (data coordinates), framed in its colour, at the first offset around it
+    (nearest first) whose box meets no label or leader placed before, no marker, line segment or the
+    legend, and stays inside the axes; a thin leader joins a label set further off to its point,
+    crossing no label."""
+    from matplotlib.transforms import Bbox, offset_copy
+
+    fig = ax.figure
+    renderer = fig.canvas.get_renderer()
+    frame = ax.get_window_extent(renderer)
+    to_display = ax.transData.transform
+    taken = [Bbox.from_bounds(*(to_display(p) - 5), 10, 10) for p in points]
+    taken += [Bbox(to_display([a, b])).padded(1) for a, b in segments] + [legend.get_window_extent(renderer)]
+    labels, leaders = [], []
+    angles = np.deg2rad([0, 180, 90, -90, 30, 150, -30, -150, 60, 120, -60, -120])
+    offsets = [(r * np.cos(a), r * np.sin(a)) for r in (6, 12, 20, 30, 45, 65, 90, 120) for a in angles]
+    for (x, y), name, color in zip(anchors, names, colors):
+        text = ax.text(x, y, name, fontsize=7, gid="variant label", zorder=4,
+                       bbox={"boxstyle": "round,pad=0.25", "fc": "white", "ec": color, "lw": 0.8,
+                             "alpha": 0.9})
+        here, best = to_display((x, y)), None
+        for dx, dy in offsets:
+            text.set_transform(offset_copy(ax.transData, fig=fig, x=dx, y=dy, units="points"))
+            text.set_ha("left" if dx > 1 else "right" if dx < -1 else "center")
+            text.set_va("bottom" if dy > 1 else "top" if dy < -1 else "center")
+            box = text.get_window_extent(renderer).padded(5)
+            leader = (here, here + np.array([dx, dy]) * fig.dpi / 72) if np.hypot(dx, dy) > 10 else None
+            outside = not (frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1))
+            clashes = (sum(box.overlaps(b) for b in taken + labels) + sum(_crosses(s, box) for s in leaders)
+                       + sum(_crosses(leader, b) for b in labels if leader is not None) + 100 * outside)
+            if best is None or clashes < best[0]:
+                best = (clashes, dx, dy, text.get_ha(), text.get_va(), box, leader)
+            if clashes == 0:
+                break
+        _, dx, dy, ha, va, box, leader = best
+        text.set_transform(offset_copy(ax.transData, fig=fig, x=dx, y=dy, units="points"))
+        text.set_ha(ha)
+        text.set_va(va)
+        labels.append(box)
+        if leader is not None:
+            leaders.append(leader)
+            ax.annotate("", (x, y), xytext=(dx, dy), textcoords="offset points", zorder=1,
+                        arrowprops={"arrowstyle": "-", "color": "0.4", "lw": 0.6, "shrinkA": 0,
+                                    "shrinkB": 4})
+
+
+def _crosses(segment, box) -> bool:
+    """Whether the segment (two display points) passes through the box (sampled)."""
+    (x0, y0), (x1, y1) = segment
+    return any(box.contains(x0 + t * (x1 - x0), y0 + t * (y1 - y0)) for t in np.linspace(0, 1, 25))

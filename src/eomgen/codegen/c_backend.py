@@ -11,6 +11,7 @@ import numpy as np
 from .. import __version__
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
+from ..progress import progress
 from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer
 from .extension import build, compiler, python_headers
 from .numpy_backend import C, C_TRIG
@@ -41,7 +42,7 @@ class CompiledEoM(NumericEoM):
 
     def _build(self, keys: list[str]) -> None:
         written = []
-        for i, key in enumerate(keys):
+        for i, key in enumerate(progress(keys, "printing C", unit="function")):
             expr, symmetric = self._pending.pop(key)
             source, shape, ops = self._c.source(f"e{i}", expr(), symmetric)
             written.append((key, source, shape, ops, self._c.trig_indices))
@@ -112,7 +113,7 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
                   (f"Jdot_u_{k}", eom.kinematics.jacobian_dot_u(frame), False,
                    f"J̇ u of frame {frame} ([linear; angular])")]
     body, decls = ["#include <math.h>", f'#include "{name}.h"', ""], []
-    for key, expr, symmetric, what in parts:
+    for key, expr, symmetric, what in progress(parts, "writing C", unit="function"):
         source, (rows, cols), _ = c.source(f"{name}_{key}", expr, symmetric)
         body.append(source)
         used = "; ".join(f"{arg}[{', '.join(map(str, ks))}]" for arg, ks in reads(source).items() if ks)

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
+from ..progress import progress
 
 FLAGS = ["-O2", "-fno-math-errno", "-ftree-vectorize", "-fPIC", "-shared"]
 # batches over the cores with vector sin and cos; else one core, scalar sin and cos
@@ -285,7 +286,7 @@ def compile_module(source: str, target: Path) -> None:
         c_file.write_text(source)
         command = [compiler(), *FLAGS, f"-I{python_headers()}", f"-I{np.get_include()}",
                    str(c_file), "-o", str(so_file)]
-        for options in ATTEMPTS:  # the first that builds here
+        for options in progress(ATTEMPTS, "compiling C", unit="attempt"):  # the first that builds here
             result = subprocess.run(command + options, capture_output=True, text=True)
             if result.returncode == 0:
                 break

@@ -25,6 +25,7 @@ from ..linalg import cross, dot
 from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
 from . import flexible
 from ..model import FlexibleLink, FreeFlyer
+from ..progress import progress
 from .applied import spring_potential, world
 
 
@@ -73,7 +74,8 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
         T = compact["T"] = sp.Add(*T_parts)
         p = [sub.add(d_du(T, j)) for j in range(n)]
         if "M" in quantities:
-            compact["M"] = sp.Matrix(n, n, lambda i, j: d_du(p[i], j))
+            compact["M"] = sp.Matrix([[d_du(p[i], j) for j in range(n)]
+                                      for i in progress(range(n), "Lagrange: M", unit="row")])
         if "b" in quantities:
             b = [sub.derivative(p[i], kin.time_seeds, TIME) - (0 if in_base(i) else d_dq(T, i)) for i in range(n)]
             if base is not None:  # Hamel's terms of the base twist

@@ -15,6 +15,7 @@ from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
 from ..model.loads import Point
+from ..progress import progress
 from .applied import add_armature, generalized_force, potential_energy
 
 
@@ -23,7 +24,7 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     u = sp.Matrix(kin.u)
     M, b, g = sp.zeros(n, n), sp.zeros(n, 1), sp.zeros(n, 1)
     inertial = {"M", "b"} & set(quantities)
-    for body in system.bodies:
+    for body in progress(system.bodies, "projected Newton-Euler", unit="body"):
         if not kin.chain[body] or (body.mass == 0 and (not inertial or body.inertia.is_zero_matrix)):
             continue
         idx = [i for k in kin.chain[body] for i, _, _ in kin.columns[k]]

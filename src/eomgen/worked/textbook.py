@@ -19,6 +19,7 @@ from sympy.polys.polyerrors import CoercionFailed, PolynomialError
 from sympy.polys.rings import ring
 from sympy.simplify.fu import TR10i
 
+from ..progress import progress
 from ..symbols import Generated
 
 MAX_OPS = 6000  # closed-form entries larger than this are not simplified
@@ -100,7 +101,8 @@ class Simplifier:
 
     def matrix(self, M: sp.Matrix) -> sp.Matrix:
         """Each entry in textbook form where it is within the bounds, else as it is."""
-        return M.applyfunc(lambda e: self.__call__(e))
+        entries = [self(e) for e in progress(list(M), "textbook form", unit="entry")]
+        return sp.Matrix(M.rows, M.cols, entries)
 
     def __call__(self, expr: sp.Expr) -> sp.Expr:
         """The textbook form where within the bounds, else `expr` itself."""

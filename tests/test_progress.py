@@ -1,0 +1,131 @@
+"""Progress bars: silent off a terminal, forced on by EOMGEN_PROGRESS=1, silenced by eg.quiet(); the
+trade-off plot: its Pareto fronts and labels that do not overlap."""
+import itertools
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import eomgen as eg
+from eomgen import progress as bars
+from models import double_pendulum
+
+
+@pytest.fixture
+def instant(monkeypatch):
+    """Bars appear at once (no delay), the environment does not decide, and quiet() is reset after."""
+    monkeypatch.setattr(bars, "DELAY", 0)
+    monkeypatch.delenv("EOMGEN_PROGRESS", raising=False)
+    with eg.quiet(False):
+        yield monkeypatch
+
+
+def test_quiet_off_a_terminal(instant, capsys):
+    """stderr captured (not a tty), no notebook: the iterable itself comes back, nothing is printed,
+    in a derivation neither."""
+    items = [1, 2, 3]
+    assert bars.progress(items, "silent") is items
+    eg.derive(double_pendulum(numeric=True), method="projected_newton_euler")
+    assert capsys.readouterr().err == ""
+
+
+def test_forced_on_and_quiet_again(instant, capsys):
+    instant.setenv("EOMGEN_PROGRESS", "1")
+    assert list(bars.progress(range(3), "counting", unit="step")) == [0, 1, 2]
+    err = capsys.readouterr().err
+    assert "counting" in err and "/3" in err and "step" in err
+    eg.derive(double_pendulum(numeric=True), method="projected_newton_euler")  # the loop over bodies
+    assert "projected Newton-Euler" in capsys.readouterr().err
+    with eg.quiet():  # the context manager: silent in the block only
+        items = [1, 2]
+        assert bars.progress(items, "hushed") is items
+        eg.derive(double_pendulum(numeric=True), method="projected_newton_euler")
+    assert capsys.readouterr().err == ""
+    list(bars.progress([1], "again"))
+    assert "again" in capsys.readouterr().err
+    eg.quiet(True)  # the function: silent until quiet(False)
+    assert list(bars.progress(range(2), "hushed")) == [0, 1] and capsys.readouterr().err == ""
+    eg.quiet(False)
+    list(bars.progress(range(2), "back"))
+    assert "back" in capsys.readouterr().err
+    instant.setenv("EOMGEN_PROGRESS", "0")
+    list(bars.progress(range(2), "off"))
+    assert capsys.readouterr().err == ""
+
+
+def test_one_slow_step_shows_its_time(instant, capsys):
+    """After the delay the bar appears while the first (only) step still runs, as during a compile."""
+    instant.setenv("EOMGEN_PROGRESS", "1")
+    instant.setattr(bars, "DELAY", 0.05)
+    for _ in bars.progress([None], "compiling"):
+        time.sleep(0.4)
+    assert "compiling:   0%" in capsys.readouterr().err  # drawn before the step ended
+
+
+def test_notebook_without_ipywidgets_falls_back_quietly():
+    """In a kernel (stand-ins for IPython and ipykernel, ipywidgets missing): the text bar on stderr
+    and no warning (all would be shown)."""
+    code = """if True:
+        import sys, types
+        ipython = types.ModuleType("IPython")
+        ipython.get_ipython = lambda: None
+        sys.modules.update({"IPython": ipython, "ipywidgets": None, "ipykernel": types.ModuleType("k"),
+                            "ipykernel.zmqshell": types.ModuleType("z")})
+        from eomgen import progress as bars
+        bars.DELAY = 0
+        print(list(bars.progress(range(3), "in a notebook")))"""
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")}
+    env.pop("EOMGEN_PROGRESS", None)
+    run = subprocess.run([sys.executable, "-W", "always", "-c", code], capture_output=True, text=True,
+                         env=env, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "[0, 1, 2]" and "in a notebook" in run.stderr
+    assert "Warning" not in run.stderr and "IProgress" not in run.stderr
+
+
+def dominated(p, q) -> bool:
+    """q dominates p: as fast and as accurate, better in one."""
+    return q[0] <= p[0] and q[1] <= p[1] and q != p
+
+
+def test_pareto_plot_front_and_labels(tmp_path):
+    """A real run (ur5, C timed too): each front is the step line through exactly the non-dominated
+    points; one label per variant, inside the axes, no two label boxes meet, none covers a marker."""
+    from eomgen.tradeoff import pareto_plot
+
+    with eg.quiet():
+        variants = eg.tradeoff(eg.robots.load("ur5"), states=20, levels=("cse",), c=True)
+    png = tmp_path / "pareto.png"
+    fig = pareto_plot(variants, png, "ur5")
+    assert png.stat().st_size > 20_000
+    ax = fig.axes[0]
+    assert "ur5" in ax.get_title() and "u̇" in ax.get_title()
+    assert "µs" in ax.get_xlabel() and "[rad/s²]" in ax.get_ylabel() and "max |u̇" in ax.get_ylabel()
+    errors = [max(v.abs_errors["ud"], 1e-300) for v in variants]
+    for kind, times in (("NumPy", [v.eval_us_per_state for v in variants]),
+                        ("C", [v.c_us_per_state for v in variants])):
+        points = [(t, e) for t, e in zip(times, errors) if t is not None]
+        assert len(points) >= len(variants) - 1  # C: all but float32
+        front = sorted(p for p in points if not any(dominated(p, q) for q in points))
+        line, = [x for x in ax.get_lines() if x.get_gid() == f"pareto front {kind}"]
+        assert line.get_drawstyle() == "steps-post"
+        drawn = list(zip(line.get_xdata(), line.get_ydata()))
+        floor = min(y for _, y in drawn)
+        assert [(t, max(e, floor)) for t, e in front] == drawn
+    renderer = fig.canvas.get_renderer()
+    labels = [t for t in ax.texts if t.get_gid() == "variant label"]
+    names = sorted(t.get_text().removesuffix(" (error 0)") for t in labels)
+    assert names == sorted(v.name for v in variants)
+    boxes = [t.get_window_extent(renderer) for t in labels]
+    frame = ax.get_window_extent(renderer)
+    for box in boxes:
+        assert frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1)
+    for (i, a), (j, b) in itertools.combinations(enumerate(boxes), 2):
+        assert not a.overlaps(b), (labels[i].get_text(), labels[j].get_text())
+    markers = np.concatenate([c.get_offsets() for c in ax.collections])
+    for x, y in ax.transData.transform(markers):
+        assert not any(box.contains(x, y) for box in boxes)
