@@ -72,7 +72,7 @@ def test_notebook_without_ipywidgets_falls_back_quietly():
     code = """if True:
         import sys, types
         ipython = types.ModuleType("IPython")
-        ipython.get_ipython = lambda: None
+        ipython.get_ipython = lambda: types.SimpleNamespace(kernel=object())  # a kernel's shell
         sys.modules.update({"IPython": ipython, "ipywidgets": None, "ipykernel": types.ModuleType("k"),
                             "ipykernel.zmqshell": types.ModuleType("z")})
         from eomgen import progress as bars

@@ -45,7 +45,15 @@ def shown() -> bool:
     setting = os.environ.get("EOMGEN_PROGRESS", "").strip()
     if setting in ("0", "1"):
         return setting == "1"
-    return "ipykernel" in sys.modules or bool(getattr(sys.stderr, "isatty", lambda: False)())
+    return _in_kernel() or bool(getattr(sys.stderr, "isatty", lambda: False)())
+
+
+def _in_kernel() -> bool:
+    """Running in a Jupyter kernel: IPython's shell has a kernel (ipykernel merely imported, as by a
+    test runner that executes notebooks, is not enough)."""
+    ipython = sys.modules.get("IPython")
+    shell = getattr(ipython, "get_ipython", lambda: None)() if ipython is not None else None
+    return getattr(shell, "kernel", None) is not None
 
 
 def progress(iterable, desc: str, total: int | None = None, unit: str = "it"):
