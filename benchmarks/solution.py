@@ -8,6 +8,7 @@ solution's textbook form against the raw closed forms of projected Newton-Euler,
 `trigsimp` applied entry by entry to those closed forms (in a subprocess, stopped after `--limit` s).
 
 Run: python benchmarks/solution.py [--limit 120] [--out benchmarks/results/solution.json]"""
+
 from __future__ import annotations
 
 import argparse
@@ -33,9 +34,15 @@ def planar_arm(n: int) -> eg.System:
     parent, length = None, 0
     for i in range(1, n + 1):
         m, l, lc, inertia = sp.symbols(f"m_{i} l_{i} l_c{i} I_{i}", positive=True)
-        parent = system.add_body(f"link{i}", parent=parent, joint=eg.Revolute(f"q_{i}", axis=(0, 0, 1)),
-                                 mass=m, com=(lc, 0, 0), inertia=sp.diag(0, 0, inertia),
-                                 placement=eg.Placement(translation=(length, 0, 0)))
+        parent = system.add_body(
+            f"link{i}",
+            parent=parent,
+            joint=eg.Revolute(f"q_{i}", axis=(0, 0, 1)),
+            mass=m,
+            com=(lc, 0, 0),
+            inertia=sp.diag(0, 0, inertia),
+            placement=eg.Placement(translation=(length, 0, 0)),
+        )
         length = l
     return system
 
@@ -44,8 +51,9 @@ def cart_pendulum() -> eg.System:
     m_c, m_p, l, g = sp.symbols("m_c m_p l g", positive=True)
     system = eg.System(gravity=(0, -g, 0))
     cart = system.add_body("cart", joint=eg.Prismatic("x", axis=(1, 0, 0)), mass=m_c)
-    system.add_body("pendulum", parent=cart, joint=eg.Revolute("phi", axis=(0, 0, 1)), mass=m_p,
-                    com=(0, -l, 0))
+    system.add_body(
+        "pendulum", parent=cart, joint=eg.Revolute("phi", axis=(0, 0, 1)), mass=m_p, com=(0, -l, 0)
+    )
     return system
 
 
@@ -77,8 +85,15 @@ def measure(name: str, make, **options) -> dict:
     seconds = time.perf_counter() - t0
     t0 = time.perf_counter()
     document = solution.latex()
-    row = {"system": name, "form": solution.form, "solution_s": seconds, "latex_s": time.perf_counter() - t0,
-           "latex_chars": len(document), "steps": len(solution.steps), "unsimplified": solution.unsimplified}
+    row = {
+        "system": name,
+        "form": solution.form,
+        "solution_s": seconds,
+        "latex_s": time.perf_counter() - t0,
+        "latex_chars": len(document),
+        "steps": len(solution.steps),
+        "unsimplified": solution.unsimplified,
+    }
     if solution.form == "textbook" and "kane" not in solution.methods:
         row["textbook_ops"] = _ops([solution[k] for k in ("M", "b", "g")])
     return row
@@ -102,12 +117,17 @@ def main() -> None:
 
     def cell(value, fmt):
         return "—" if value is None else format(value, fmt)
-    print(f"{'system':24s} {'form':9s} {'solution s':>10s} {'LaTeX s':>8s} {'M,b,g ops':>9s} {'closed ops':>10s} "
-          f"{'trigsimp s':>10s} {'its ops':>7s}")
+
+    print(
+        f"{'system':24s} {'form':9s} {'solution s':>10s} {'LaTeX s':>8s} {'M,b,g ops':>9s}"
+        f" {'closed ops':>10s} {'trigsimp s':>10s} {'its ops':>7s}"
+    )
     for r in rows:
-        print(f"{r['system']:24s} {r['form']:9s} {r['solution_s']:10.2f} {r['latex_s']:8.2f} "
-              f"{cell(r.get('textbook_ops'), '9d'):>9s} {cell(r.get('closed_ops'), '10d'):>10s} "
-              f"{cell(r.get('trigsimp_s'), '10.1f'):>10s} {cell(r.get('trigsimp_ops'), '7d'):>7s}")
+        print(
+            f"{r['system']:24s} {r['form']:9s} {r['solution_s']:10.2f} {r['latex_s']:8.2f} "
+            f"{cell(r.get('textbook_ops'), '9d'):>9s} {cell(r.get('closed_ops'), '10d'):>10s} "
+            f"{cell(r.get('trigsimp_s'), '10.1f'):>10s} {cell(r.get('trigsimp_ops'), '7d'):>7s}"
+        )
     print(f"(— : not applicable, or sympy's trigsimp did not finish within {args.limit:.0f} s)")
     results_io.write(args.out, "solution", rows, trigsimp_limit_s=args.limit)
 

@@ -382,9 +382,15 @@ def test_floating_base_step_against_pinocchio():
 
     system = eg.System(gravity=(0, 0, -9.81))
     base = system.add_body("base", joint=eg.FreeFlyer("root"), mass=2.0, inertia=sp.diag(0.1, 0.2, 0.3))
-    leg = system.add_body("leg", parent=base, joint=eg.Revolute("knee", axis=(0, 1, 0)), mass=0.5,
-                          com=(0, 0, -0.2), inertia=sp.diag(0.01, 0.01, 0.001),
-                          placement=eg.Placement(translation=(0.1, 0, 0)))
+    leg = system.add_body(
+        "leg",
+        parent=base,
+        joint=eg.Revolute("knee", axis=(0, 1, 0)),
+        mass=0.5,
+        com=(0, 0, -0.2),
+        inertia=sp.diag(0.01, 0.01, 0.001),
+        placement=eg.Placement(translation=(0.1, 0, 0)),
+    )
     system.add_frame("foot", body=leg, placement=eg.Placement(translation=(0, 0, -0.4)))
     system.add_contact("foot", "point")
     sol = eg.solution(system, methods=("projected_newton_euler", "recursive"))
@@ -396,12 +402,16 @@ def test_floating_base_step_against_pinocchio():
 
     model = pin.Model()
     root = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "root")
-    model.appendBodyToJoint(root, pin.Inertia(2.0, np.zeros(3), np.diag([0.1, 0.2, 0.3])), pin.SE3.Identity())
+    model.appendBodyToJoint(
+        root, pin.Inertia(2.0, np.zeros(3), np.diag([0.1, 0.2, 0.3])), pin.SE3.Identity()
+    )
     knee = model.addJoint(root, pin.JointModelRY(), pin.SE3(np.eye(3), np.array([0.1, 0, 0])), "knee")
-    model.appendBodyToJoint(knee, pin.Inertia(0.5, np.array([0, 0, -0.2]), np.diag([0.01, 0.01, 0.001])),
-                            pin.SE3.Identity())
-    foot = model.addFrame(pin.Frame("foot", knee, 0, pin.SE3(np.eye(3), np.array([0, 0, -0.4])),
-                                    pin.FrameType.OP_FRAME))
+    model.appendBodyToJoint(
+        knee, pin.Inertia(0.5, np.array([0, 0, -0.2]), np.diag([0.01, 0.01, 0.001])), pin.SE3.Identity()
+    )
+    foot = model.addFrame(
+        pin.Frame("foot", knee, 0, pin.SE3(np.eye(3), np.array([0, 0, -0.4])), pin.FrameType.OP_FRAME)
+    )
     data = model.createData()
     q = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
     pin.computeJointJacobians(model, data, q)
@@ -412,3 +422,33 @@ def test_floating_base_step_against_pinocchio():
         values[symbol] = definition.xreplace(values).evalf()
     J_c = np.array(step["J_c"].xreplace(values).evalf(), dtype=float)
     assert np.allclose(J_c, J, atol=1e-12), (J_c, J)
+
+
+def test_names_numbers_and_symbolic_axes_found_in_review(tmp_path):
+    """Names with LaTeX's specials and non-ASCII letters compile; numbers from a file (decimals) are
+    compared at random states, not exactly (round-off); a symbolic axis skips only the cut-free balances."""
+    g, alpha = sp.Symbol("g", positive=True), sp.Symbol("alpha")
+    system = eg.System(gravity=(0, -g, 0))
+    a = system.add_body("Wägen #1 & {x}", joint=eg.Prismatic("x % 1", axis=(1, 0, 0)), mass=1.3)
+    system.add_body(
+        "arm_φ",
+        parent=a,
+        joint=eg.Revolute("φ joint_a", axis=(0, 0, 1)),
+        mass=0.7,
+        com=(0, -0.45, 0),
+        inertia=sp.diag(0.01, 0.01, 0.01),
+    )
+    sol = eg.solution(system)
+    assert "random states" in sol.steps[-1].text
+    assert all(float(v) < 1e-10 for v in sol.steps[-1].expressions.values())
+    compile_pdf(sol.latex(), tmp_path)
+    tilted = eg.System(gravity=(0, -g, 0))
+    tilted.add_body(
+        "rod",
+        joint=eg.Revolute("phi", axis=(sp.sin(alpha), 0, sp.cos(alpha))),
+        mass=sp.Symbol("m", positive=True),
+        com=(0, -sp.Symbol("l", positive=True), 0),
+    )
+    sol = eg.solution(tilted)
+    assert not any(step.title == "Cut free" for step in sol.steps)
+    assert any(step.title == "Elimination of the reactions" for step in sol.steps)

@@ -8,6 +8,9 @@ small integers and simple fractions (1/2, 3/4) stay exact."""
 
 from __future__ import annotations
 
+import re
+import unicodedata
+
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
 
@@ -15,6 +18,7 @@ from .symbols import Generated
 
 CUT = {"a": "a", "alpha": r"\alpha", "F": "F", "T": "T"}  # the free cut's accelerations and reactions
 SIMPLE_DENOMINATOR = 1000  # a fraction with a larger denominator is a decimal number from a file
+SIMPLE = re.compile(r"^[A-Za-z]+\d*(_\{?[A-Za-z0-9]{1,3}\}?)?$")  # m, l_c1, q_1, phi: sympy prints them well
 
 
 class Printer(LatexPrinter):
@@ -28,7 +32,7 @@ class Printer(LatexPrinter):
         tag = getattr(expr, "tag", None) if isinstance(expr, Generated) else None
         if isinstance(tag, tuple) and len(tag) == 2 and tag[0] in ("dot", "ddot"):
             inner = self._print(tag[1])
-            if inner.startswith(r"\mathrm"):  # a long name: q̇ with the name as subscript, readable
+            if inner.startswith(r"\mathrm{"):  # a long name: q̇ with the name as subscript, readable
                 return rf"\{tag[0]}{{q}}_{{{inner}}}"
             base, sub = _split_subscript(inner)
             return rf"\{tag[0]}{{{base}}}{sub}"
@@ -36,8 +40,8 @@ class Printer(LatexPrinter):
             return rf"{CUT[tag[0]]}_{{{text(tag[1])},{tag[2]}}}"
         if isinstance(tag, tuple) and len(tag) == 2 and tag[0] == "tau":
             return rf"\tau_{{{name(tag[1])}}}"
-        if expr.name.count("_") > 1:  # shoulder_pan_joint: a name, not a symbol with subscripts
-            return rf"\mathrm{{{escape(expr.name)}}}"
+        if not SIMPLE.match(expr.name):  # shoulder_pan_joint, "a b", "φ₁": a name, not a symbol
+            return rf"\mathrm{{{escape(expr.name, math=True)}}}"
         return super()._print_Symbol(expr, style)
 
     def _print_Float(self, expr):
@@ -57,14 +61,38 @@ def _split_subscript(symbol: str) -> tuple[str, str]:
     return symbol, ""
 
 
-def escape(label: str) -> str:
-    """A name as LaTeX text (text mode): special characters escaped."""
-    return "".join(
-        {"\\": r"\textbackslash{}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}.get(
-            c, "\\" + c if c in "#$%&_{}" else c
+def escape(label: str, math: bool = False) -> str:
+    """A name as LaTeX (text mode, or inside \\mathrm when `math`): specials escaped, Greek letters as
+    their commands, other non-ASCII letters without their accents (pdflatex has no glyphs for them)."""
+    out = []
+    for c in label:
+        if c in "#$%&_{}":
+            out.append("\\" + c)
+        elif c in "\\~^":
+            out.append(
+                {"\\": r"\backslash ", "~": r"\sim ", "^": r"\wedge "}[c]
+                if math
+                else {"\\": r"\textbackslash{}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}[c]
+            )
+        elif c == " " and math:
+            out.append(r"\ ")
+        elif ord(c) < 128:
+            out.append(c)
+        else:
+            out.append(_ascii(c, math))
+    return "".join(out)
+
+
+def _ascii(c: str, math: bool) -> str:
+    name = unicodedata.name(c, "")
+    if name.startswith("GREEK") and " LETTER " in name:
+        letter = name.split(" LETTER ")[1].lower().replace("final ", "").replace("lamda", "lambda")
+        command = (
+            ("\\" + (letter.capitalize() if "CAPITAL" in name else letter)) if letter.isalpha() else "?"
         )
-        for c in label
-    )
+        return command + " " if math else f"${command}$"
+    plain = "".join(x for x in unicodedata.normalize("NFKD", c) if ord(x) < 128)
+    return plain or "?"
 
 
 def latex(expr, digits: int = 4) -> str:

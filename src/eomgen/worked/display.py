@@ -5,15 +5,24 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..errors import ModelError
 from ..printing import latex
 from .textbook import Simplifier
 
 SMALL = 4  # speeds up to which the parts are shown
+LONG = 6000  # characters of LaTeX beyond which they are not
 
 
 def _parts(equations, items) -> list[str]:
+    """The parts in textbook form, or a note when they are too long to read or have no closed form."""
     simplifier = Simplifier([b.mass for b in equations.system.bodies], max_ops=800, seconds=3.0)
-    return [rf"{name} &= {latex(simplifier.matrix(sp.Matrix(value())))}" for name, value in items]
+    try:
+        parts = [rf"{name} &= {latex(simplifier.matrix(sp.Matrix(value())))}" for name, value in items]
+    except ModelError:  # Kane's closed forms need pivots proven nonzero
+        return [r"&\text{(no closed form: the generated code, eg.codegen, solves numerically)}"]
+    if sum(map(len, parts)) > LONG:
+        return [r"&\text{(the parts are long: see eg.solution or the generated code)}"]
+    return parts
 
 
 def equations_math(eom) -> str:

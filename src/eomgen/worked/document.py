@@ -18,7 +18,7 @@ from ..model.loads import Actuator, Damper, Force, Spring, Torque
 from ..model.system import System
 from ..printing import escape, latex, text
 
-WIDTH = 150  # characters of LaTeX per line of a long sum
+WIDTH = 90  # characters of LaTeX per line of a long sum
 METHOD_TITLES = {
     "free_cut": "Newton-Euler with a free cut",
     "projected_newton_euler": "Projected Newton-Euler",
@@ -190,7 +190,10 @@ def _blocks(step, kind: str, digits: int) -> list[str]:
     if step.shared:
         lines.append(_prose("with the shared definitions", kind))
         rows = [rf"{latex(s)} &= {_broken(e, digits)}" for s, e in step.shared]
-        lines.append(_display(r"\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}", kind))
+        if kind == "latex":  # align* breaks across pages (\allowdisplaybreaks): every definition shows
+            lines.append(r"\begin{align*}" + " \\\\\n".join(rows) + r"\end{align*}")
+        else:
+            lines.append(_display(r"\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}", kind))
     for name, expr in step.expressions.items():
         lines.append(_display(rf"{label(name)} = {_math(expr, digits)}", kind))
     return lines
@@ -225,21 +228,39 @@ def _math(expr, digits: int) -> str:
 
 
 def _broken(expr, digits: int) -> str:
-    """A long sum broken into lines of about WIDTH characters (inside aligned)."""
-    expr = sp.sympify(expr)
-    if not isinstance(expr, sp.Add) or len(latex(expr, digits)) <= WIDTH:
-        return latex(expr, digits)
+    """A long expression broken into lines of about WIDTH characters (inside aligned): at the terms
+    of a sum, and inside a long term's one parenthesised sum, m (a + b + ...) → m \\Big( a + b ... \\Big).
+    """
     lines, current = [], ""
-    for term in sp.Add.make_args(expr):
-        piece = latex(term, digits)
-        piece = piece if piece.startswith("-") or not current else "+ " + piece
+    for piece in _pieces(sp.sympify(expr), digits, first=True):
         if current and len(current) + len(piece) > WIDTH:
             lines.append(current)
-            current = piece if piece.startswith(("-", "+")) else "+ " + piece
+            current = piece
         else:
             current = f"{current} {piece}".strip()
     lines.append(current)
     return r" \\ &\quad ".join(lines)
+
+
+def _pieces(expr, digits: int, first: bool) -> list[str]:
+    """LaTeX pieces that may stand on lines of their own, each sum term with its sign."""
+    text = latex(expr, digits)
+    if len(text) <= (
+        WIDTH if isinstance(expr, sp.Add) else 1.4 * WIDTH
+    ):  # a term: split only if far too long
+        return [text if first or text.startswith("-") else "+ " + text]
+    if isinstance(expr, sp.Add):
+        return [
+            p for k, t in enumerate(sp.Add.make_args(expr)) for p in _pieces(t, digits, first and k == 0)
+        ]
+    if isinstance(expr, sp.Mul):
+        sums = [f for f in expr.args if isinstance(f, sp.Add)]
+        if len(sums) == 1:
+            rest = sp.Mul(*[f for f in expr.args if f is not sums[0]])
+            head = "" if rest == 1 else "-" if rest == -1 else latex(rest, digits)
+            sign = "" if first or head.startswith("-") else "+ "
+            return [rf"{sign}{head} \Big("] + _pieces(sums[0], digits, True) + [r"\Big)"]
+    return [text if first or text.startswith("-") else "+ " + text]
 
 
 def _display(math: str, kind: str) -> str:

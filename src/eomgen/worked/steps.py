@@ -60,7 +60,7 @@ class Forms:
         large = [k for k, e in expressions.items() if operations(e) > LARGE]
         if not large:
             return Step(title, text, expressions, method)
-        definitions, reduced = shared([sp.Matrix(expressions[k]) for k in large])
+        definitions, reduced = shared([sp.Matrix(_entries(expressions[k])) for k in large])
         out = dict(expressions)
         for k, r in zip(large, reduced):
             out[k] = r if isinstance(expressions[k], sp.MatrixBase) else r[0]
@@ -74,10 +74,12 @@ class Forms:
         return definitions, {k: sp.sympify(x).xreplace(names) for k, x in expressions.items()}
 
     def result(self) -> dict[str, sp.Basic]:
-        """M, b, g and each load's τ."""
+        """M, b, g and each load's τ; kept in `results` as they are, before any shared definitions
+        (what the comparison compares)."""
         out = {k: self(self.eom.compact[k]) for k in ("M", "b", "g")}
         out.update({f"tau[{name}]": self(self.eom.compact[f"tau:{name}"]) for name in self.eom.load_names})
-        return out
+        self.results = out
+        return dict(out)
 
 
 def _entries(x) -> list:
@@ -218,7 +220,9 @@ def _energy_derivatives_shared(forms: Forms, T: sp.Expr, U: sp.Expr) -> dict:
 def free_cut(forms: Forms) -> list[Step]:
     method, eom = "free_cut", forms.eom
     steps = []
-    if forms.form != "shared":
+    numeric_axes = all(a.is_number for j in eom.system.joints if getattr(j, "axis", None) is not None
+                       for a in j.axis)
+    if forms.form != "shared" and numeric_axes:  # the cut-free balances: textbook form, numeric axes
         steps.append(_cut(forms))
     results = forms.result()
     wrenches = eom.extras["reactions"]
@@ -280,6 +284,7 @@ def _cut(forms: Forms) -> Step:
 def contacts(forms: Forms) -> Step:
     """Floating base and contacts: S, J_c and the formulas of F_c and N_c (evaluated numerically)."""
     system, kin = forms.eom.system, forms.kin
+    floating = any(isinstance(j, FreeFlyer) for j in system.joints)
     expressions = {"S": system.S}
     if system.contacts:
         rows = [kin.jacobian(c.frame)[: 3 if c.kind == "point" else 6, :] for c in system.contacts]
@@ -293,8 +298,9 @@ def contacts(forms: Forms) -> Step:
         expressions["N_c"] = sp.Identity(n) - M.I * J.T * Lambda * J
     return forms.step(
         "Floating base and contacts",
-        r"The base is not actuated: $S = [0 \; I]$ selects the actuated joints, "
-        r"$M \ddot q + b + g = S^T \tau + J_c^T F_c$. A contact holds $J_c \dot q = 0$ and "
+        (r"The base is not actuated: $S = [0 \; I]$ selects the actuated joints, " if floating else
+         r"$S$ selects the actuated joints, ")
+        + r"$M \ddot q + b + g = S^T \tau + J_c^T F_c$. A contact holds $J_c \dot q = 0$ and "
         r"$J_c \ddot q + \dot J_c \dot q = 0$, which gives the contact forces $F_c$ "
         r"($h = S^T \tau + \tau_{loads} - b - g$); the support projector $N_c$ ($J_c N_c = 0$) gives the "
         r"support-consistent dynamics $N_c^T (M \ddot q + b + g) = N_c^T S^T \tau$. Both involve $M^{-1}$: "

@@ -88,7 +88,10 @@ class Simplifier:
         normal = trig_normal(expr)
         if normal not in self._known:
             self._known[normal] = self._grouped(TR10i(normal))
-        return self._known[normal]
+        form = self._known[normal]
+        if expr.atoms(sp.Float):  # decimals went through exact rationals: decimals again
+            form = form.xreplace({r: sp.Float(r, 15) for r in form.atoms(sp.Rational) if r.q > 1000})
+        return form
 
     def _grouped(self, form: sp.Expr) -> sp.Expr:
         """The shorter of: terms collected by their angles (coefficients factored), or first by the
