@@ -43,6 +43,20 @@ def cart_pendulum():
     return system, (m_c, m_p, l, g)
 
 
+def planar_arm(n: int) -> eg.System:
+    """n links turning about z, link i of length l_i, centre of mass at l_ci, inertia I_i about z."""
+    g = sp.Symbol("g", positive=True)
+    system = eg.System(gravity=(0, -g, 0))
+    parent, length = None, 0
+    for i in range(1, n + 1):
+        m, l, lc, inertia = sp.symbols(f"m_{i} l_{i} l_c{i} I_{i}", positive=True)
+        parent = system.add_body(f"link{i}", parent=parent, joint=eg.Revolute(f"q_{i}", axis=(0, 0, 1)),
+                                 mass=m, com=(lc, 0, 0), inertia=sp.diag(0, 0, inertia),
+                                 placement=eg.Placement(translation=(length, 0, 0)))
+        length = l
+    return system
+
+
 def double_pendulum(numeric: bool = False):
     """Planar double pendulum, physical rods: com at the middle, inertia about z."""
     if numeric:

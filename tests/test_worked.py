@@ -17,7 +17,7 @@ import sympy as sp
 import eomgen as eg
 from eomgen.__main__ import main
 from eomgen.printing import latex
-from models import cart_pendulum, matrices_trig_equal, trig_zero
+from models import cart_pendulum, matrices_trig_equal, planar_arm, trig_zero
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 import nonholonomic  # noqa: E402
@@ -186,29 +186,11 @@ def test_two_link_arm_textbook():
         assert sp.count_ops(got) <= sp.count_ops(sp.expand(hand)), (got, hand)  # textbook, not swollen
 
 
-def three_link_arm():
-    g = sp.Symbol("g", positive=True)
-    system = eg.System(gravity=(0, -g, 0))
-    parent, symbols = None, []
-    for i in (1, 2, 3):
-        m, l, lc, I = sp.symbols(f"m_{i} l_{i} l_c{i} I_{i}", positive=True)
-        symbols.append((m, l, lc, I))
-        offset = symbols[i - 2][1] if i > 1 else 0
-        parent = system.add_body(
-            f"link{i}",
-            parent=parent,
-            joint=eg.Revolute(f"q_{i}", axis=(0, 0, 1)),
-            mass=m,
-            com=(lc, 0, 0),
-            inertia=sp.diag(0, 0, I),
-            placement=eg.Placement(translation=(offset, 0, 0)),
-        )
-    return system, symbols, g
-
-
 def test_three_link_arm_every_entry_in_textbook_form():
     """Every entry of M, b, g no larger than a hand-written closed form (and equal to it)."""
-    system, ((m1, l1, lc1, I1), (m2, l2, lc2, I2), (m3, l3, lc3, I3)), g = three_link_arm()
+    system = planar_arm(3)
+    m1, l1, lc1, I1, m2, l2, lc2, I2, m3, lc3, I3, g = sp.symbols(
+        "m_1 l_1 l_c1 I_1 m_2 l_2 l_c2 I_2 m_3 l_c3 I_3 g", positive=True)
     sol = eg.solution(system)
     q1, q2, q3 = system.q
     d1, d2, d3 = system.u

@@ -5,6 +5,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from .display import equations_markdown, equations_math
 from .errors import ModelError
 from .kinematics import Kinematics
 from .model.system import System
@@ -167,9 +168,7 @@ class EquationsOfMotion(ClosedForms):
         return f"EquationsOfMotion(method={self.method!r}, q={list(self.q)})"
 
     def _repr_markdown_(self) -> str:  # Jupyter
-        from .worked.display import equations_markdown
         return equations_markdown(self)
 
     def _repr_latex_(self) -> str:
-        from .worked.display import equations_math
         return f"$$ {equations_math(self)} $$"

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
+from ..display import kane_markdown, kane_math
 from ..eom import ClosedForms, EquationsOfMotion
 from ..errors import ModelError
 from ..kinematics import Kinematics
@@ -92,11 +93,9 @@ class KaneEquations(ClosedForms):
         return -self.mass_matrix * wdot + self.forcing - self.active_forces
 
     def _repr_markdown_(self) -> str:  # Jupyter
-        from ..worked.display import kane_markdown
         return kane_markdown(self)
 
     def _repr_latex_(self) -> str:
-        from ..worked.display import kane_math
         return f"$$ {kane_math(self)} $$"
 
     # --- closed forms ---------------------------------------------------------------------------

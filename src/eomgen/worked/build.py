@@ -16,7 +16,7 @@ from ..state import random_states
 from ..subexpressions import samples
 from . import kane_steps, steps
 from .document import Solution
-from .textbook import MAX_OPS, SECONDS, Simplifier, is_zero
+from ..textbook import MAX_OPS, SECONDS, Simplifier, is_zero
 
 LECTURE = ("free_cut", "projected_newton_euler", "lagrange")
 TEXTBOOK_DOF = 4  # form "auto": textbook closed forms up to this many speeds, shared forms beyond
@@ -81,23 +81,18 @@ def _simplifier(system: System, max_ops: int, seconds: float) -> Simplifier:
     return Simplifier([b.mass for b in system.bodies], max_ops, seconds)
 
 
-def _comparison(derived: dict[str, EquationsOfMotion], results: dict, form: str) -> steps.Step:
-    exact = form == "textbook" and not any(
-        _from_a_file(e) for r in results.values() for k in ("M", "b", "g") for e in sp.Matrix(r[k])
-    )
-    return _compare(derived, results, exact)
-
-
 def _from_a_file(expr: sp.Expr) -> bool:
     """Decimals, or rationals such as 44105/9007199254740992 (a file's numbers, with their round-off:
     a rotation from rpy angles is orthogonal to round-off only)."""
     return bool(expr.atoms(sp.Float)) or any(r.q > SIMPLE_DENOMINATOR for r in expr.atoms(sp.Rational))
 
 
-def _compare(derived: dict[str, EquationsOfMotion], results: dict, exact: bool) -> steps.Step:
+def _comparison(derived: dict[str, EquationsOfMotion], results: dict, form: str) -> steps.Step:
     """Each method's M, b, g against the first's: exactly (the difference's trigonometric normal form
     is 0) in textbook form without decimal numbers; else at random states through the intermediates
     (a file's numbers carry round-off, which no exact comparison survives)."""
+    exact = form == "textbook" and not any(
+        _from_a_file(e) for r in results.values() for k in ("M", "b", "g") for e in sp.Matrix(r[k]))
     names = list(derived)
     first = names[0]
     expressions = {}

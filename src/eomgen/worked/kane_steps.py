@@ -9,7 +9,7 @@ from ..methods.kane import KaneEquations
 from ..model.loads import Point
 from .document import Solution
 from .steps import Step, moving_bodies
-from .textbook import Simplifier
+from ..textbook import Simplifier
 
 
 def solution(k: KaneEquations, simplifier: Simplifier, title: str | None) -> Solution:

@@ -15,8 +15,7 @@ from ..eom import EquationsOfMotion
 from ..kinematics import TIME
 from ..model import FreeFlyer
 from ..model.loads import Point
-from ..symbols import Generated
-from .textbook import Simplifier, operations, shared
+from ..textbook import Simplifier, chi, operations, shared
 
 LARGE = 400  # a closed form with more operations than this is shown through shared definitions
 
@@ -69,7 +68,7 @@ class Forms:
     def _renamed(self, expressions: dict) -> tuple[list, dict]:
         """Intermediates renamed χ_1, χ_2, ... in definition order."""
         needed = self.sub.dependencies([e for x in expressions.values() for e in _entries(x)])
-        names = {s: Generated(f"chi_{k + 1}", ("shared", k)) for k, s in enumerate(needed)}
+        names = {s: chi(k) for k, s in enumerate(needed)}
         definitions = [(names[s], self.sub.definitions[s].xreplace(names)) for s in needed]
         return definitions, {k: sp.sympify(x).xreplace(names) for k, x in expressions.items()}
 
@@ -287,9 +286,9 @@ def contacts(forms: Forms) -> Step:
     floating = any(isinstance(j, FreeFlyer) for j in system.joints)
     expressions = {"S": system.S}
     if system.contacts:
-        rows = [kin.jacobian(c.frame)[: 3 if c.kind == "point" else 6, :] for c in system.contacts]
-        expressions["J_c"] = forms(sp.Matrix.vstack(*rows))
-        n, k = len(system.u), sum(r.rows for r in rows)
+        J_c = kin.contact_jacobian()[0]
+        expressions["J_c"] = forms(J_c)
+        n, k = len(system.u), J_c.rows
         M, J = sp.MatrixSymbol("M", n, n), sp.MatrixSymbol("J_c", k, n)
         h = sp.MatrixSymbol("h", n, 1)
         Jdu = sp.MatrixSymbol(r"\dot{J}_{c} \dot{q}", k, 1)

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..errors import ModelError
-from ..printing import latex
+from .errors import ModelError
+from .printing import latex
 from .textbook import Simplifier
 
 SMALL = 4  # speeds up to which the parts are shown

@@ -19,8 +19,8 @@ from sympy.polys.polyerrors import CoercionFailed, PolynomialError
 from sympy.polys.rings import ring
 from sympy.simplify.fu import TR10i
 
-from ..progress import progress
-from ..symbols import Generated
+from .progress import progress
+from .symbols import Generated
 
 MAX_OPS = 6000  # closed-form entries larger than this are not simplified
 SECONDS = 60.0  # simplification time for one solution
@@ -128,8 +128,12 @@ def operations(expr) -> int:
     return sum(map(sp.count_ops, expr)) if isinstance(expr, sp.MatrixBase) else sp.count_ops(expr)
 
 
+def chi(k: int) -> Generated:
+    """The shared definition χ_(k+1) of a printed solution."""
+    return Generated(f"chi_{k + 1}", ("shared", k))
+
+
 def shared(exprs: list[sp.Matrix]) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.Matrix]]:
     """The matrices through common subexpressions χ_k (defined in the order returned)."""
-    chi = (Generated(f"chi_{k + 1}", ("shared", k)) for k in range(10**9))
-    replacements, reduced = sp.cse(list(exprs), symbols=chi)
+    replacements, reduced = sp.cse(list(exprs), symbols=(chi(k) for k in range(10**9)))
     return replacements, [sp.Matrix(r) for r in reduced]
