@@ -91,8 +91,11 @@ def test_free_flyer_model_and_errors():
     assert (system.nq, system.nv) == (19, 18)
     S = np.array(system.S.tolist(), float)
     assert S.shape == (12, 18) and not S[:, :6].any() and (S[:, 6:] == np.eye(12)).all()
-    with pytest.raises(eg.ModelError, match="'recursive' does not handle a ZYX Euler free-flyer base"):
-        eg.derive(eg.robots.load("solo12", base="euler"), method="recursive")
+    euler = eg.robots.load("solo12", base="euler")  # the recursive method takes the Euler base too
+    f_rec, f_ne = (eg.codegen(eg.derive(euler, method=m)) for m in ("recursive", "projected_newton_euler"))
+    q, u, _ = eg.random_states(euler, 3, np.random.default_rng(1))
+    for qk, uk in zip(q, u):
+        assert np.allclose(f_rec.M(qk), f_ne.M(qk), atol=1e-12) and np.allclose(f_rec.b(qk, uk), f_ne.b(qk, uk))
     s = eg.System()
     base = s.add_body("base", joint=eg.Revolute("q0"), mass=1)
     with pytest.raises(eg.ModelError, match="FreeFlyer joint must attach the root body"):

@@ -11,7 +11,7 @@ import sympy as sp
 
 from .errors import ModelError
 from .linalg import cross, dot, matmul, scale
-from .model import FlexibleLink, FreeFlyer, Placement, Prismatic, Revolute
+from .model import FlexibleLink, Placement
 from .model.loads import Point
 from .model.system import Body, Frame, System
 from .subexpressions import Subexpressions
@@ -31,17 +31,18 @@ class Kinematics:
         self.time_seeds = dict(zip(self.q, system.qdot))  # q̇(q, u): u but for a free-flyer base
         self.R: dict[Body, sp.Matrix] = {}
         self.p: dict[Body, sp.Matrix] = {}
-        self.e: dict[Body, sp.Matrix] = {}  # joint axis in world axes
-        # per moving body, its joint's columns (u index, "P" for a direction of translation or "R"
-        # for an axis of rotation through the body origin, world axes)
-        self.columns: dict[Body, list[tuple[int, str, sp.Matrix]]] = {}
+        # per body, its joint's motion subspace in world axes: (u index, v of the body origin, ω)
+        self.columns: dict[Body, list[tuple[int, sp.Matrix, sp.Matrix]]] = {}
+        self._axes: dict[Body, sp.Matrix] = {}  # the axes the joint's S and bias are written in
         self.chain: dict[Body, list[Body]] = {}  # the moving joints from the root to the body
         self._cache: dict = {}
         for body in system.bodies:
             self._place(body)
 
     def _place(self, body: Body) -> None:
-        parent = body.parent
+        """R, p of the body, and its joint's columns: S in world axes (through R_joint where the joint
+        gives S in joint axes, else through R of the body)."""
+        parent, joint = body.parent, body.joint
         R_parent = self.R[parent] if parent else sp.eye(3)
         p_parent = self.p[parent] if parent else sp.zeros(3, 1)
         if parent is not None and isinstance(parent.joint, FlexibleLink):  # children sit on the tip
@@ -50,26 +51,16 @@ class Kinematics:
             R_parent = self.sub.add_matrix(matmul(R_parent, R_tip))
         R_joint = self.sub.add_matrix(matmul(R_parent, body.placement.rotation))
         p_joint = p_parent + matmul(R_parent, body.placement.translation)
-        R_q, t_q = body.joint.motion()
+        R_q, t_q = joint.motion()
         self.R[body] = self.sub.add_matrix(matmul(R_joint, R_q))
-        chain = list(self.chain[parent]) if parent else []
-        if isinstance(body.joint, FreeFlyer):
-            if body.joint.parametrization == "euler":  # u = q̇: world axes, and the Euler rate axes
-                axes = [self.sub.add_matrix(matmul(R_joint, w)) for w in body.joint.angular_axes()]
-                self.columns[body] = [(body.index + k, "P", R_joint[:, k]) for k in range(3)] + \
-                                     [(body.index + 3 + k, "R", axes[k]) for k in range(3)]
-            else:  # u = body twist: the base's own axes
-                R = self.R[body]
-                self.columns[body] = [(body.index + k, "P", R[:, k]) for k in range(3)] + \
-                                     [(body.index + 3 + k, "R", R[:, k]) for k in range(3)]
-            chain.append(body)
-        elif body.index is not None:
-            self.e[body] = self.sub.add_matrix(matmul(R_joint, body.joint.axis))
-            self.columns[body] = [(body.index, "P" if isinstance(body.joint, Prismatic) else "R", self.e[body])]
-            chain.append(body)
-        self.p[body] = self.sub.add_matrix(p_joint + (scale(body.joint.q, self.e[body])
-                                                      if isinstance(body.joint, Prismatic) else matmul(R_joint, t_q)))
-        self.chain[body] = chain
+        self.p[body] = self.sub.add_matrix(p_joint + matmul(R_joint, t_q))
+        S = joint.joint_frame_subspace()
+        self._axes[body] = R_joint if S is not None else self.R[body]
+        S = joint.subspace() if S is None else S
+        self.columns[body] = [(i, self.sub.add_matrix(matmul(self._axes[body], v)),
+                               self.sub.add_matrix(matmul(self._axes[body], w)))
+                              for i, (v, w) in zip(body.speed_indices, S)]
+        self.chain[body] = (list(self.chain[parent]) if parent else []) + ([body] if self.columns[body] else [])
 
     # --- positions ---------------------------------------------------------------------------
     def position(self, point: Point) -> sp.Matrix:
@@ -104,7 +95,8 @@ class Kinematics:
 
     # --- Jacobians (3 × n, world axes) --------------------------------------------------------
     def J_P(self, point: Point) -> sp.Matrix:
-        """Translational Jacobian of a point: column k is e_k × (r − p_k) (revolute) or e_k (prismatic)."""
+        """Translational Jacobian of a point: column i is Σ v_k + ω_k × (r − p_k) over the joints k
+        on the way whose motion has u_i (one joint, or a driver and its mimics)."""
         def build():
             J = sp.zeros(3, self.n)
             if point.body is None:
@@ -112,18 +104,17 @@ class Kinematics:
             r = self.position(point)
             for k in self.chain[point.body]:
                 arm = self.sub.add_matrix(r - self.p[k])
-                for i, kind, w in self.columns[k]:
-                    J[:, i] = w if kind == "P" else self.sub.add_matrix(cross(w, arm))
+                for i, v, w in self.columns[k]:
+                    J[:, i] += v + self.sub.add_matrix(cross(w, arm))
             return J
         return self._cached(("J_P", point.body, tuple(point.offset)), build)
 
     def J_R(self, body: Body | None) -> sp.Matrix:
-        """Rotational Jacobian: column k is e_k for the revolute joints on the way to the body."""
+        """Rotational Jacobian: column i is Σ ω_k over the joints on the way whose motion has u_i."""
         J = sp.zeros(3, self.n)
         for k in self.chain.get(body, []):
-            for i, kind, w in self.columns[k]:
-                if kind == "R":
-                    J[:, i] = w
+            for i, _, w in self.columns[k]:
+                J[:, i] += w
         return J
 
     def jacobian(self, name: str) -> sp.Matrix:
@@ -138,28 +129,36 @@ class Kinematics:
                             lambda: self.sub.add_matrix(matmul(self.J_P(point), sp.Matrix(self.u))))
 
     def omega(self, body: Body | None) -> sp.Matrix:
-        """Ω = J_R u, built along the chain: Ω_i = Ω_parent + e_i u_i (revolute)."""
+        """Ω = J_R u, built along the chain: Ω_i = Ω_parent + Σ_k ω_k u_k."""
         if body is None:
             return sp.zeros(3, 1)
 
         def build():
-            Omega = self.omega(body.parent)
-            for i, kind, w in self.columns.get(body, []):
-                if kind == "R":
-                    Omega = Omega + scale(self.u[i], w)
-            return self.sub.add_matrix(Omega)
+            return self.sub.add_matrix(self.omega(body.parent) + self.relative(body)[1])
         return self._cached(("w", body), build)
 
     def time_derivative(self, expr: sp.Matrix) -> sp.Matrix:
         """d/dt by the chain rule, q̇ = u and u held fixed (so d/dt (J u) = J̇ u)."""
         return expr.applyfunc(lambda e: self.sub.add(self.sub.derivative(e, self.time_seeds, TIME)))
 
+    def relative(self, body: Body) -> tuple[sp.Matrix, sp.Matrix]:
+        """(V, W): the velocity of the body origin and the angular velocity relative to the joint frame,
+        world axes, Σ_k (v_k, ω_k) u_k."""
+        def build():
+            V, W = sp.zeros(3, 1), sp.zeros(3, 1)
+            for i, v, w in self.columns[body]:
+                V, W = V + scale(self.u[i], v), W + scale(self.u[i], w)
+            return self.sub.add_matrix(V), self.sub.add_matrix(W)
+        return self._cached(("rel", body), build)
+
     def _bias(self, body: Body | None) -> tuple[sp.Matrix, sp.Matrix]:
         """(α_i, a_i): angular acceleration and acceleration of the body origin when u̇ = 0.
 
-        The chain rule along the tree, with ė = Ω × e for every vector fixed in a moving body:
-        α_i = α_p + Ω_p × e_i u_i (revolute),
-        a_i = a_p + α_p × d_i + Ω_p × (Ω_p × d_i) (+ 2 Ω_p × e_i u_i, prismatic),  d_i = p_i − p_p."""
+        The chain rule along the tree, with ė = Ω × e for every vector fixed in a moving body,
+        d = p_i − p_p, (V, W) the joint's relative motion (`relative`) and (a_rel, α_rel) its bias:
+        α_i = α_p + Ω_p × W + R α_rel,
+        a_i = a_p + α_p × d + Ω_p × (Ω_p × d) + 2 Ω_p × V + R a_rel,
+        with R the axes the joint writes its subspace in (`Joint.bias`, `Joint.joint_frame_subspace`)."""
         if body is None:
             return sp.zeros(3, 1), sp.zeros(3, 1)
 
@@ -170,22 +169,26 @@ class Kinematics:
             d = self.sub.add_matrix(self.p[body] - (self.p[parent] if parent else sp.zeros(3, 1)))
             a = a_p + cross(alpha_p, d) + cross(Omega_p, self.sub.add_matrix(cross(Omega_p, d)))
             alpha = alpha_p
-            u = self.u[body.index] if body.index is not None else 0
-            if isinstance(body.joint, FreeFlyer) and body.joint.parametrization == "euler":
-                # root, u = q̇: a = 0; α = Σ ẇ_k u_k with ẇ_2 = ψ̇ e_z × w_2, ẇ_3 = (ψ̇ e_z + θ̇ w_2) × w_3
-                (_, _, w1), (_, _, w2), (_, _, w3) = self.columns[body][3:]
-                yaw_d, pitch_d, roll_d = self.u[body.index + 3:body.index + 6]
-                turn = self.sub.add_matrix(scale(yaw_d, w1) + scale(pitch_d, w2))
-                alpha = scale(yaw_d * pitch_d, cross(w1, w2)) + scale(roll_d, cross(turn, w3))
-            elif isinstance(body.joint, FreeFlyer):  # root: α = Ω × Ω = 0, a = Ω × v (axes turn with it)
-                v = sum((scale(self.u[i], w) for i, kind, w in self.columns[body] if kind == "P"), sp.zeros(3, 1))
-                a = cross(self.omega(body), self.sub.add_matrix(v))
-            elif isinstance(body.joint, Revolute):
-                alpha = alpha_p + scale(u, self.sub.add_matrix(cross(Omega_p, self.e[body])))
-            elif isinstance(body.joint, Prismatic):
-                a = a + scale(2 * u, self.sub.add_matrix(cross(Omega_p, self.e[body])))
+            if self.columns[body]:
+                V, W = self.relative(body)
+                a_rel, alpha_rel = self._joint_bias(body)
+                alpha = alpha + cross(Omega_p, W) + matmul(self._axes[body], alpha_rel)
+                a = a + scale(2, cross(Omega_p, V)) + matmul(self._axes[body], a_rel)
             return self.sub.add_matrix(alpha), self.sub.add_matrix(a)
         return self._cached(("bias", body), build)
+
+    def _joint_bias(self, body: Body) -> tuple[sp.Matrix, sp.Matrix]:
+        """The joint's (a_rel, α_rel) in the axes of its subspace, in this system's speeds."""
+        joint = body.joint
+        S = joint.joint_frame_subspace()
+        if S is None:
+            a_rel, alpha_rel = joint.bias()
+        else:  # joint axes: the plain rate of the columns
+            rates = [(joint.rate(v), joint.rate(w)) for v, w in S]
+            speeds = [self.u[i] for i in body.speed_indices]
+            a_rel = sum((scale(u, dv) for (dv, _), u in zip(rates, speeds)), sp.zeros(3, 1))
+            alpha_rel = sum((scale(u, dw) for (_, dw), u in zip(rates, speeds)), sp.zeros(3, 1))
+        return self.sub.add_matrix(a_rel), self.sub.add_matrix(alpha_rel)
 
     def Jdot_u_P(self, point: Point) -> sp.Matrix:
         """J̇_P u: the acceleration of a point when u̇ = 0, a_i + α_i × c + Ω_i × (Ω_i × c), c = r − p_i."""

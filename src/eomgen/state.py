@@ -1,29 +1,46 @@
 """Numeric states of a system: random valid states, and q integrated with u on the configuration
-manifold (the quaternion of a free-flyer base stays a unit quaternion)."""
+manifold of each joint (`Joint.group`): unit quaternions stay unit quaternions."""
 from __future__ import annotations
 
 import numpy as np
 
 from .errors import ModelError
-from .model import FreeFlyer, Revolute, System
+from .model import Cylindrical, Planar, Prismatic, System, Translation
 
 
 def random_states(system: System, n: int, rng) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """n states (q, u, u̇): revolute angles in [−π, π], prismatic in [−0.5, 0.5], a free-flyer base in
-    [−1, 1]³ with a uniformly random orientation (Euler base: pitch within ±0.45 π), u and u̇ in [−2, 2]."""
+    """n states (q, u, u̇): angles in [−π, π] (ZYX pitch within ±0.45 π), lengths in [−0.5, 0.5] (a free
+    flyer's and a planar joint's position in [−1, 1]), uniformly random unit quaternions, u and u̇ in
+    [−2, 2]."""
     if not isinstance(n, int) or isinstance(n, bool) or n < 0:
         raise ModelError(f"random_states: n must be a non-negative integer, got {n!r}")
     parts = []
     for j in system.joints:
-        if isinstance(j, FreeFlyer) and j.parametrization == "euler":
-            parts += [rng.uniform(-1, 1, (n, 3)), rng.uniform(-np.pi, np.pi, (n, 3)) * [1, 0.45, 1]]
-        elif isinstance(j, FreeFlyer):
-            quat = rng.normal(size=(n, 4))
-            parts += [rng.uniform(-1, 1, (n, 3)), quat / np.linalg.norm(quat, axis=1, keepdims=True)]
-        else:
-            parts.append(rng.uniform(-1, 1, (n, 1)) * (np.pi if isinstance(j, Revolute) else 0.5))
-    q = np.concatenate(parts, axis=1)
+        for label in _kinds(j):
+            if label == "quaternion":
+                quat = rng.normal(size=(n, 4))
+                parts.append(quat / np.linalg.norm(quat, axis=1, keepdims=True))
+            else:
+                scale = {"angle": np.pi, "pitch": 0.45 * np.pi, "length": 0.5, "position": 1.0}[label]
+                parts.append(rng.uniform(-1, 1, (n, 1)) * scale)
+    q = np.concatenate(parts, axis=1) if parts else np.zeros((n, 0))
     return q, rng.uniform(-2, 2, (n, system.nv)), rng.uniform(-2, 2, (n, system.nv))
+
+
+def _kinds(joint) -> list[str]:
+    """What each coordinate of a joint is: "angle", "pitch", "length", "position" or (4 of them)
+    "quaternion"."""
+    if joint.group in ("SO3", "SE3"):
+        return ["position"] * 3 * (joint.group == "SE3") + ["quaternion"]
+    if joint.pitch_index is not None:  # ZYX angles, after the free flyer's position
+        return ["position"] * (joint.pitch_index - 1) + ["angle", "pitch", "angle"]
+    if isinstance(joint, Planar):
+        return ["position", "position", "angle"]
+    if isinstance(joint, (Prismatic, Translation)):
+        return ["length"] * len(joint.coordinates)
+    if isinstance(joint, Cylindrical):
+        return ["length", "angle"]
+    return ["angle"] * len(joint.coordinates)  # revolute, helical, universal, flexible link's angle
 
 
 def _skew(w: np.ndarray) -> np.ndarray:
@@ -36,27 +53,42 @@ def _quaternion_rotation(x, y, z, w) -> np.ndarray:
                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
+def _exp_so3(w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(V, half-angle quaternion) of a rotation vector w: exp([w]×) = q(w), and
+    V = 1 + (1 − cos θ)/θ² [w]× + (θ − sin θ)/θ³ [w]×², the left Jacobian that carries a body velocity."""
+    theta = np.linalg.norm(w)
+    W = _skew(w)
+    if theta < 1e-8:
+        return np.eye(3) + W / 2, np.r_[w / 2, 1.0]
+    V = np.eye(3) + (1 - np.cos(theta)) / theta**2 * W + (theta - np.sin(theta)) / theta**3 * W @ W
+    return V, np.r_[np.sin(theta / 2) * w / theta, np.cos(theta / 2)]
+
+
+def _turn(quat: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """The quaternion product quat ⊗ half (scalar last)."""
+    a, s, c, d = quat[:3], quat[3], half[:3], half[3]
+    return np.r_[s * c + d * a + np.cross(a, c), s * d - a @ c]
+
+
 def integrate(system: System, q, u, dt: float) -> np.ndarray:
-    """q ⊕ u dt: joints q + u dt; a quaternion base moves along the exponential of its body twist,
-    p ← p + R V(ω dt) v dt and q ← q ⊗ exp(ω dt / 2), with V = 1 + (1 − cos θ)/θ² [w]× + (θ − sin θ)/θ³ [w]×²."""
+    """q ⊕ u dt, as pinocchio.integrate: vector joints q + u dt; a body twist (free flyer, ball joint,
+    planar joint) moves along its exponential, p ← p + R V(ω dt) v dt and R ← R exp(ω dt)."""
     q, u = np.asarray(q, float).copy(), np.asarray(u, float)
     for b in system.bodies:
         if b.index is None:
             continue
         j, k, i = b.joint, b.q_index, b.index
-        if isinstance(j, FreeFlyer) and j.parametrization == "quaternion":
-            v, w = u[i:i + 3] * dt, u[i + 3:i + 6] * dt
-            theta = np.linalg.norm(w)
-            W = _skew(w)
-            if theta < 1e-8:
-                V, half = np.eye(3) + W / 2, np.r_[w / 2, 1.0]
-            else:
-                V = np.eye(3) + (1 - np.cos(theta)) / theta**2 * W + (theta - np.sin(theta)) / theta**3 * W @ W
-                half = np.r_[np.sin(theta / 2) * w / theta, np.cos(theta / 2)]
-            x, y, z, s = q[k + 3:k + 7]
-            q[k:k + 3] += _quaternion_rotation(x, y, z, s) @ V @ v
-            a, c = np.array([x, y, z]), half[:3]  # quaternion product (a, s) ⊗ (c, d)
-            q[k + 3:k + 7] = np.r_[s * c + half[3] * a + np.cross(a, c), s * half[3] - a @ c]
+        if j.group == "SE3":
+            V, half = _exp_so3(u[i + 3:i + 6] * dt)
+            q[k:k + 3] += _quaternion_rotation(*q[k + 3:k + 7]) @ V @ (u[i:i + 3] * dt)
+            q[k + 3:k + 7] = _turn(q[k + 3:k + 7], half)
+        elif j.group == "SO3":
+            q[k:k + 4] = _turn(q[k:k + 4], _exp_so3(u[i:i + 3] * dt)[1])
+        elif j.group == "SE2":
+            V, _ = _exp_so3(np.r_[0.0, 0.0, u[i + 2] * dt])
+            c, s = np.cos(q[k + 2]), np.sin(q[k + 2])
+            q[k:k + 2] += (np.array([[c, -s], [s, c]]) @ V[:2, :2] @ (u[i:i + 2] * dt))
+            q[k + 2] += u[i + 2] * dt
         else:
             q[k:k + j.dof] += u[i:i + j.dof] * dt
     return q

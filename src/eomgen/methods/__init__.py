@@ -4,7 +4,7 @@ from __future__ import annotations
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..kinematics import Kinematics
-from ..model import FlexibleLink, FreeFlyer
+from ..model import FlexibleLink
 from ..model.system import System
 from . import free_cut, lagrange, projected_newton_euler, recursive
 from .flexible import flexible_mass
@@ -36,11 +36,6 @@ def derive(system: System, method: str = "projected_newton_euler", quantities=No
         raise ModelError("the system has no bodies")
     if system.nq == 0:
         raise ModelError("the system has no moving joint (every body is fixed)")
-    for joint in system.joints:
-        euler = getattr(joint, "parametrization", None) == "euler"
-        if isinstance(joint, FreeFlyer) and method == "recursive" and euler:
-            raise ModelError(f"joint '{joint.name}': method 'recursive' does not handle a ZYX Euler free-flyer "
-                             "base; use 'projected_newton_euler', 'free_cut' or 'lagrange'")
     if method != "lagrange" and any(isinstance(j, FlexibleLink) for j in system.joints):
         raise ModelError(f"method {method!r} does not handle flexible links; use 'lagrange'")
     total = sum((b.mass for b in system.bodies), 0) + flexible_mass(system)

@@ -69,11 +69,23 @@ def potential_energy(kin: Kinematics) -> sp.Expr:
     return U + sum((spring_potential(kin, s) for s in kin.system.loads if isinstance(s, Spring)), sp.Integer(0))
 
 
+def armature(kin: Kinematics) -> list[tuple[int, sp.Expr]]:
+    """(i, I_a) per speed u_i that turns a rotor: the joint's armature on each of its speeds, k² times
+    a mimic's on its driver's (the rotor turns at k u_driver)."""
+    terms = []
+    for body in kin.system.bodies:
+        joint = body.joint
+        mimic = getattr(joint, "mimic", None)
+        k = 1 if mimic is None else mimic.multiplier
+        if joint.armature != 0:
+            terms += [(i, mul(k**2, joint.armature)) for i in body.speed_indices]
+    return terms
+
+
 def add_armature(kin: Kinematics, M: sp.Matrix) -> None:
     """M_ii += armature_i (rotor inertia reflected through the gear), in place."""
-    for body in kin.system.bodies:
-        if body.index is not None and body.joint.armature != 0:
-            M[body.index, body.index] += body.joint.armature
+    for i, inertia in armature(kin):
+        M[i, i] += inertia
 
 
 def generalized_force(kin: Kinematics, load) -> sp.Matrix:

@@ -13,8 +13,9 @@ root gives each joint's wrench, moved to its origin:
     F_i = f_i + Σ_c F_c,    T_i = t_i + (r_Si − p_i) × f_i + Σ_c (T_c + (p_c − p_i) × F_c)
 
 (f_i, t_i the body's own inertial minus applied force and moment), and the generalized equation
-of joint i is its free component, τ_i = e_i · T_i (revolute) or e_i · F_i (prismatic); a free-flyer
-base has six, w_k · F or w_k · T along its speed directions (its base axes, or the Euler-rate axes).
+of speed k is the free component of the joint wrenches along the joint's motion subspace,
+τ_k = Σ v_k · F_i + ω_k · T_i (ω_k · T for a revolute axis, v_k · F for a prismatic one; a mimic joint
+adds its own to its driver's).
 The terms multiplying u̇ give M, the bias terms b, gravity g, the loads τ."""
 from __future__ import annotations
 
@@ -23,9 +24,9 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..eom import EquationsOfMotion
+from ..errors import ModelError
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
-from ..model import Fixed, FreeFlyer, Prismatic, Revolute
 from ..model.loads import Point
 from ..symbols import Generated
 from .applied import add_armature, applied_wrenches, potential_energy
@@ -117,25 +118,27 @@ def external_terms(kin: Kinematics, loads, sign: int = 1) -> dict:
 
 
 def free_components(kin: Kinematics, W: dict) -> sp.Matrix:
-    """The generalized forces of joint wrenches W (at each joint origin): per speed u_i of a body's
-    joint, w_i · F (a direction of translation) or w_i · T (an axis of rotation)."""
+    """The generalized forces of joint wrenches W (at each joint origin): per column (u_i, v, ω) of a
+    body's joint, v · F + ω · T."""
     tau = sp.zeros(kin.n, 1)
     for body, cols in kin.columns.items():
         F, T = W[body]
-        for i, kind, w in cols:
-            tau[i] = dot(w, F if kind == "P" else T)
+        for i, v, w in cols:
+            tau[i] += dot(v, F) + dot(w, T)
     return tau
 
 
+def reaction_directions(kin: Kinematics, body) -> sp.Matrix:
+    """The joint's reaction basis B (`Joint.reaction_basis`) in world axes, 6 × (6 − dof)."""
+    B = body.joint.reaction_basis()
+    R = kin.R[body]
+    return matmul(R, B[:3, :]).col_join(matmul(R, B[3:, :]))
+
+
 def _without_free_component(kin: Kinematics, body, F: sp.Matrix, T: sp.Matrix) -> sp.Matrix:
-    """The reaction: the joint wrench less its component along the joint's motion (a free flyer has none)."""
-    if isinstance(body.joint, FreeFlyer):
-        return sp.zeros(6, 1)
-    if isinstance(body.joint, Revolute):
-        T = T - scale(dot(kin.e[body], T), kin.e[body])
-    elif isinstance(body.joint, Prismatic):
-        F = F - scale(dot(kin.e[body], F), kin.e[body])
-    return F.col_join(T)
+    """The reaction: the joint wrench's component in the directions the joint blocks, B Bᵀ (F; T)."""
+    B = reaction_directions(kin, body)
+    return matmul(B, matmul(B.T, F.col_join(T)))
 
 
 @dataclass(eq=False)
@@ -165,29 +168,6 @@ class CutEquations:
                 f"({len(eqs)} in {len(unknowns)} with the kinematics)")
 
 
-def _perpendicular(a: sp.Matrix) -> sp.Matrix:
-    """Two unit vectors completing a unit axis a to an orthonormal basis (3 × 2)."""
-    for k in range(3):
-        if all(a[i] == 0 for i in range(3) if i != k):
-            return sp.eye(3)[:, [i for i in range(3) if i != k]]
-    m = min(range(3), key=lambda i: abs(float(a[i])) if a[i].is_number else 1)
-    n1 = a.cross(sp.eye(3)[:, m])
-    n1 = n1 / sp.sqrt((n1.T * n1)[0])
-    return n1.row_join(a.cross(n1))
-
-
-def constrained_basis(joint) -> tuple[sp.Matrix, sp.Matrix]:
-    """Body-axis directions of the reaction force and torque a joint can carry."""
-    if isinstance(joint, Revolute):
-        return sp.eye(3), _perpendicular(joint.axis)
-    if isinstance(joint, Prismatic):
-        return _perpendicular(joint.axis), sp.eye(3)
-    if isinstance(joint, FreeFlyer):
-        return sp.zeros(3, 0), sp.zeros(3, 0)
-    assert isinstance(joint, Fixed)
-    return sp.eye(3), sp.eye(3)
-
-
 def _planar_normal(kin: Kinematics) -> int | None:
     """The world axis the system moves perpendicular to, if all motion stays in one plane."""
     def zero(e):
@@ -204,34 +184,58 @@ def _planar_normal(kin: Kinematics) -> int | None:
     return None
 
 
+def _reaction_label(body, column: sp.Matrix, k: int) -> tuple[str, tuple]:
+    """F_<body>_x for a force along a body axis, T_<body>_2 for the second torque direction, W_<body>_k
+    for a force and torque together (a screw)."""
+    force, torque = list(column[:3]), list(column[3:])
+    kind = "W" if any(x != 0 for x in force) and any(x != 0 for x in torque) else \
+        "F" if any(x != 0 for x in force) else "T"
+    part = torque if kind == "T" else force
+    name = "xyz"[part.index(1)] if kind != "W" and sorted(part) == [0, 0, 1] else f"{k + 1}"
+    return f"{kind}_{body.name}_{name}", (kind, body.name, name)
+
+
+def _efforts(kin: Kinematics, body, F: sp.Matrix, T: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
+    """The joint's efforts τ_k as a wrench in its motion subspace, S G⁻¹ τ with G = SᵀS constant
+    (Sᵀ of it gives back τ)."""
+    joint, sub = body.joint, kin.sub
+    S = sp.Matrix.hstack(*[v.col_join(w) for v, w in joint.subspace()])
+    G = S.T * S
+    if G.free_symbols & set(kin.q):
+        raise ModelError(f"joint '{joint.name}': its speeds are not orthogonal at every q (angle rates); the "
+                         "cut-free balances are written for joints whose motion subspace keeps its shape")
+    names = [joint.name] if joint.dof == 1 else [f"{joint.name}_{k + 1}" for k in range(joint.dof)]
+    tau = sp.Matrix([Generated(f"tau_{x}", ("tau", x)) for x in names])
+    wrench = S * (G.inv() * tau)  # a constant Gram matrix of at most 6 × 6 numbers or parameters
+    R = sub.inline(kin.R[body])  # S is in child axes
+    return F + R * wrench[:3, 0], T + R * wrench[3:, 0]
+
+
 def cut_equations(kin: Kinematics) -> CutEquations:
-    """Newton and Euler of every body cut free, with the joint reactions as unknowns."""
+    """Newton and Euler of every body cut free, with the joint reactions as unknowns (mimic joints,
+    which couple two joints through a mechanism that is not a body, are not written out)."""
     system, sub = kin.system, kin.sub
+    mimics = [b.joint.name for b in system.bodies if getattr(b.joint, "mimic", None) is not None]
+    if mimics:
+        raise ModelError(f"the cut-free balances are not written for mimic joints ({mimics}); derive "
+                         "the equations (eg.derive) to include them")
     ud = sp.Matrix(list(system.ud))
     normal = _planar_normal(kin)
     keep_F = [i for i in range(3) if i != normal]
     keep_T = [normal] if normal is not None else [0, 1, 2]
     W, reaction_unknowns = {}, []
     for b in system.bodies:
-        B_F, B_T = constrained_basis(b.joint)
-        F, T = sp.zeros(3, 1), sp.zeros(3, 1)
-        for kind, B in (("F", B_F), ("T", B_T)):
-            for k in range(B.shape[1]):
-                direction = sub.inline(kin.R[b] * B[:, k])
-                if normal is not None and any(sp.expand(direction[i]) != 0
-                                              for i in ((normal,) if kind == "F" else keep_F)):
-                    continue  # out of the plane: decoupled, not part of the planar system
-                column = list(B[:, k])
-                name = "xyz"[column.index(1)] if sorted(column) == [0, 0, 1] else f"{k + 1}"
-                lam = Generated(f"{kind}_{b.name}_{name}", (kind, b.name, name))
-                reaction_unknowns.append(lam)
-                if kind == "F":
-                    F += direction * lam
-                else:
-                    T += direction * lam
-        if b.joint.actuated and b.index is not None:
-            tau = Generated(f"tau_{b.joint.name}", ("tau", b.joint.name)) * sub.inline(kin.e[b])
-            F, T = (F + tau, T) if isinstance(b.joint, Prismatic) else (F, T + tau)
+        B, F, T = reaction_directions(kin, b), sp.zeros(3, 1), sp.zeros(3, 1)
+        for k in range(B.cols):
+            force, torque = (sub.inline(x) for x in (B[:3, k], B[3:, k]))
+            if normal is not None and (sp.expand(force[normal]) != 0 or any(sp.expand(torque[i]) != 0
+                                                                               for i in keep_F)):
+                continue  # out of the plane: decoupled, not part of the planar system
+            lam = Generated(*_reaction_label(b, b.joint.reaction_basis()[:, k], k))
+            reaction_unknowns.append(lam)
+            F, T = F + force * lam, T + torque * lam
+        if b.joint.actuated and b.joint.dof:
+            F, T = _efforts(kin, b, F, T)
         W[b] = (F, T)
     ext = external_terms(kin, system.loads)
     dynamic, kinematic, accelerations, substituted = [], [], [], []

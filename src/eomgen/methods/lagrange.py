@@ -9,46 +9,41 @@ v_S = ṙ_S, Ω_B = vee(Rᵀ Ṙ). Then
 from the virtual power of the applied forces and torques (efforts held fixed) and the Rayleigh
 function D of the dampers. Only the requested quantities are formed: g alone needs no velocities.
 
-A quaternion free-flyer base has speeds that are not coordinate rates (u = (v, ω), the base twist
-in base axes, q̇ = W(q) u): its rows are Lagrange's equations in quasi-velocities (Hamel; Kirchhoff
-for a rigid body), with p_v = ∂T/∂v, p_ω = ∂T/∂ω and T independent of the base pose,
+Speeds that are not coordinate rates (a quaternion base's or a ball joint's body twist, a planar
+joint's velocity in its own axes; q̇ = W(q) u) give Lagrange's equations in quasi-velocities (Hamel),
 
-    b_v = d/dt p_v + ω × p_v,   b_ω = d/dt p_ω + ω × p_ω + v × p_v,   g = ∂U̇/∂u = Wᵀ ∂U/∂q,
-and the joints' rows are the ones above with ∂/∂q taken along each joint's own coordinate."""
+    b_k = d/dt p_k − X_k T + h_k(u, p),   g_k = X_k U,   X_k = Σ_i W_ik ∂/∂q_i,
+with the joint's terms h (`Joint.hamel`: Euler's ω × p_ω for a ball joint; Kirchhoff's ω × p_v and
+ω × p_ω + v × p_v for a free body); X_k T vanishes for a root joint (T does not depend on its pose).
+For u = q̇, X_k = ∂/∂q_k and h = 0: the rows above."""
 from __future__ import annotations
 
 import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import TIME, Kinematics
-from ..linalg import cross, dot
+from ..linalg import dot
 from ..model.loads import Actuator, Damper, Force, Point, Spring, Torque
 from . import flexible
-from ..model import FlexibleLink, FreeFlyer
+from ..model import FlexibleLink
 from ..progress import progress
-from .applied import spring_potential, world
+from .applied import armature, spring_potential, world
 
 
 def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     system, sub, n = kin.system, kin.sub, kin.n
     kinetic = {"M", "b"} & set(quantities)
-    q, u = kin.q, kin.u
+    u = kin.u
     du = [{uj: 1} for uj in u]
-    base = next((b for b in system.bodies if isinstance(b.joint, FreeFlyer)
-                 and b.joint.parametrization == "quaternion"), None)
-    coordinate = [i + (1 if base is not None and i >= base.index + 6 else 0) for i in range(n)]  # q index of u_i
-
-    def in_base(j):
-        return base is not None and base.index <= j < base.index + 6
+    directions, quasi = speed_directions(system)
+    invariant = {i for b in quasi if b.parent is None for i in b.speed_indices}  # T does not depend on them
 
     def d_du(expr, j):
         return sub.derivative(expr, du[j], ("u", j))
 
     def d_dq(expr, j):
-        """∂expr/∂q along u_j: the joint's coordinate, or (quaternion base rows) ∂(d/dt expr)/∂u_j."""
-        if in_base(j):
-            return d_du(sub.add(sub.derivative(expr, kin.time_seeds, TIME)), j)
-        return sub.derivative(expr, {q[coordinate[j]]: 1}, ("q", coordinate[j]))
+        """X_j expr = Σ_i W_ij ∂expr/∂q_i, the derivative along the motion of u_j (q̇ = W u)."""
+        return sub.derivative(expr, directions[j], ("X", j))
 
     T_parts, U_gravity = [], sp.Integer(0)
     for body in system.bodies:
@@ -60,8 +55,7 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
         Omega_B = angular_velocity_body(kin, body)
         T_parts.append(sub.add(body.mass * (v_S.T * v_S)[0] / 2
                                + (Omega_B.T * body.inertia * Omega_B)[0] / 2))
-    T_parts += [body.joint.armature * u[body.index] ** 2 / 2 for body in system.bodies
-                if body.index is not None and body.joint.armature != 0]  # rotors: ½ I_a u_i²
+    T_parts += [inertia * u[i] ** 2 / 2 for i, inertia in armature(kin)]  # rotors: ½ I_a u_i²
     U_elastic = []
     for body in system.bodies:
         if isinstance(body.joint, FlexibleLink):
@@ -77,11 +71,13 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
             compact["M"] = sp.Matrix([[d_du(p[i], j) for j in range(n)]
                                       for i in progress(range(n), "Lagrange: M", unit="row")])
         if "b" in quantities:
-            b = [sub.derivative(p[i], kin.time_seeds, TIME) - (0 if in_base(i) else d_dq(T, i)) for i in range(n)]
-            if base is not None:  # Hamel's terms of the base twist
-                k = base.index
-                v, w, p_v, p_w = (sp.Matrix(x[k + a:k + a + 3]) for x, a in ((u, 0), (u, 3), (p, 0), (p, 3)))
-                b[k:k + 6] = list(sp.Matrix(b[k:k + 6]) + cross(w, p_v).col_join(cross(w, p_w) + cross(v, p_v)))
+            b = [sub.derivative(p[i], kin.time_seeds, TIME) - (0 if i in invariant else d_dq(T, i))
+                 for i in range(n)]
+            for body in quasi:  # Hamel's terms of the speeds that are not coordinate rates
+                idx = body.speed_indices
+                terms = body.joint.hamel([u[i] for i in idx], [p[i] for i in idx])
+                for i, term in zip(idx, terms):
+                    b[i] += term
             compact["b"] = sp.Matrix(b)
     if "g" in quantities:
         compact["g"] = sp.Matrix([d_dq(U_gravity, i) for i in range(n)])
@@ -105,6 +101,23 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
         compact[f"tau:{load.name}"] = sp.Matrix(tau)
     compact["U"] = U
     return EquationsOfMotion(kin, "lagrange", compact)
+
+
+def speed_directions(system) -> tuple[list[dict], list]:
+    """Per speed u_j, its direction in q (the column j of W in q̇ = W(q) u, as {q_i: W_ij}); and the
+    bodies whose joint's speeds are quasi-velocities (`Joint.hamel`)."""
+    directions, quasi = [], []
+    for body in system.bodies:
+        joint = body.joint
+        if body.index is None:
+            continue
+        rates = joint.qdot()
+        for s in joint.speeds:
+            directions.append({q: W for q, W in ((q, sp.diff(r, s)) for q, r in zip(joint.coordinates, rates))
+                               if W != 0})
+        if joint.hamel(joint.speeds, [0] * joint.dof) is not None:
+            quasi.append(body)
+    return directions, quasi
 
 
 def angular_velocity_body(kin: Kinematics, body) -> sp.Matrix:

@@ -27,7 +27,7 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     for body in progress(system.bodies, "projected Newton-Euler", unit="body"):
         if not kin.chain[body] or (body.mass == 0 and (not inertial or body.inertia.is_zero_matrix)):
             continue
-        idx = [i for k in kin.chain[body] for i, _, _ in kin.columns[k]]
+        idx = sorted({i for k in kin.chain[body] for i, _, _ in kin.columns[k]})
         S = Point(body, body.com)
         J_P = kin.J_P(S)[:, idx]
         if "g" in quantities:

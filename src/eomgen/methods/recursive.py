@@ -4,15 +4,17 @@ are constant in their own frames, so every projection picks a few entries.
 
 Body i's frame sits in its parent's as x_p = R_i x_i + t_i (placement and joint motion).
 
-RNEA (u̇ = 0), body axes:  Ω_i = R_iᵀ Ω_p + a_i u_i,   α_i = R_iᵀ α_p + Ω_i × a_i u_i,
-    a_i = R_iᵀ (a_p + α_p × t_i + Ω_p × (Ω_p × t_i)) (+ 2 Ω_i × a_i u_i, prismatic),
+RNEA (u̇ = 0), body axes, with the joint's motion (v, ω) = Σ_k S_k u_k and bias (a_rel, α_rel)
+(`Joint.subspace`, `Joint.bias`, both in body axes) and Ω' = R_iᵀ Ω_p:
+    Ω_i = Ω' + ω,   α_i = R_iᵀ α_p + Ω' × ω + α_rel,
+    a_i = R_iᵀ (a_p + α_p × t_i + Ω_p × (Ω_p × t_i)) + 2 Ω' × v + a_rel,
     f_i = m a_S,  n_i = Θ α_i + Ω_i × Θ Ω_i + c × f_i,   a_S = a_i + α_i × c + Ω_i × (Ω_i × c),
-    F_i = f_i + Σ_c R_c F_c,  N_i = n_i + Σ_c (R_c N_c + t_c × R_c F_c),  b_i = a_i · N_i (F_i, prismatic);
+    F_i = f_i + Σ_c R_c F_c,  N_i = n_i + Σ_c (R_c N_c + t_c × R_c F_c),  b_k = v_k · F_i + ω_k · N_i;
     g is the same with u = 0 and the base accelerating with −g⃗.
 CRBA: composite (m, h = m c, I_O) from the leaves, moved to the parent by
     h' = R h + m t,  I_O' = R I_O Rᵀ + m (|t|² 1 − t tᵀ) + 2 (t · R h) 1 − t (R h)ᵀ − (R h) tᵀ;
-    the momentum of a unit joint speed, (a × h, I_O a) revolute or (m a, h × a) prismatic, carried
-    to each ancestor k gives M_kj = a_k · (angular or linear part)."""
+    the momentum of the composite moved by u_j = 1, (m v_j + ω_j × h, I_O ω_j + h × v_j), carried to
+    each ancestor k gives M_kj = v_k · linear + ω_k · angular part."""
 from __future__ import annotations
 
 import sympy as sp
@@ -20,7 +22,6 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
-from ..model import FreeFlyer, Prismatic, Revolute
 from .applied import add_armature, generalized_force, potential_energy
 
 
@@ -37,7 +38,12 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
         lin = sub.add_matrix(matmul(R, lin))
         return lin, sub.add_matrix(matmul(R, ang) + cross(t, lin))
 
+    S = {b: [(i, sub.add_matrix(v), sub.add_matrix(w)) for i, (v, w) in zip(b.speed_indices, b.joint.subspace())]
+         for b in bodies}
+    biases = {b: tuple(sub.add_matrix(x) for x in b.joint.bias()) for b in bodies if S[b]}
+
     def rnea(u, gravity) -> sp.Matrix:
+        moving = any(x != 0 for x in u)
         Omega, alpha, acc, F, N = {}, {}, {}, {}, {}
         for b in bodies:
             R, t = X[b]
@@ -47,18 +53,15 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
                 w_p, al_p, a_p = Omega[b.parent], alpha[b.parent], acc[b.parent]
             w, al = matmul(R.T, w_p), matmul(R.T, al_p)
             a = matmul(R.T, a_p + cross(al_p, t) + cross(w_p, cross(w_p, t)))
-            ui = u[b.index] if b.index is not None else 0
-            axis = b.joint.axis
-            if isinstance(b.joint, FreeFlyer):  # root: Ω = ω, v = v_B in the base frame, a = ω × v
-                w = w + sp.Matrix(u[b.index + 3:b.index + 6])
-                a = a + cross(w, sp.Matrix(u[b.index:b.index + 3]))
-            elif isinstance(b.joint, Revolute) and ui != 0:
-                w = w + scale(ui, axis)
-                al = al + scale(ui, cross(w, axis))
+            if moving and S[b]:
+                v_rel = sum((scale(u[i], v) for i, v, _ in S[b]), zero)
+                w_rel = sum((scale(u[i], x) for i, _, x in S[b]), zero)
+                a_rel, al_rel = biases[b]
+                al = al + cross(w, w_rel) + al_rel
+                a = a + scale(2, cross(w, v_rel)) + a_rel
+                w = w + w_rel
             Omega[b] = w = sub.add_matrix(w)
             alpha[b] = al = sub.add_matrix(al)
-            if isinstance(b.joint, Prismatic) and ui != 0:
-                a = a + scale(2 * ui, cross(w, axis))
             acc[b] = a = sub.add_matrix(a)
             c = b.com
             a_S = a + cross(al, c) + cross(w, sub.add_matrix(cross(w, c)))
@@ -71,10 +74,8 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
                 lin, ang = up(c, F[c], N[c])
                 F[b], N[b] = F[b] + lin, N[b] + ang
             F[b], N[b] = sub.add_matrix(F[b]), sub.add_matrix(N[b])
-            if isinstance(b.joint, FreeFlyer):
-                tau[b.index:b.index + 6, 0] = F[b].col_join(N[b])
-            elif b.index is not None:
-                tau[b.index] = dot(b.joint.axis, F[b] if isinstance(b.joint, Prismatic) else N[b])
+            for i, v, w in S[b]:
+                tau[i] += dot(v, F[b]) + dot(w, N[b])
         return tau
 
     def crba() -> sp.Matrix:
@@ -95,19 +96,19 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
             comp[b] = (sub.add(m), sub.add_matrix(h), _symmetric(sub, I_O))
         M = sp.zeros(n, n)
         for b in bodies:
-            if b.index is None:
-                continue
             m, h, I_O = comp[b]
-            for j, kind, a in _motions(b):  # the momentum of a unit speed u_j
-                if kind == "R":
-                    lin, ang = sub.add_matrix(cross(a, h)), sub.add_matrix(matmul(I_O, a))
-                else:
-                    lin, ang = sub.add_matrix(scale(m, a)), sub.add_matrix(cross(h, a))
+            for j, v, w in S[b]:  # the momentum of the composite moved by u_j = 1: (m v + ω × h, I_O ω + h × v)
+                lin = sub.add_matrix(scale(m, v) + cross(w, h))
+                ang = sub.add_matrix(matmul(I_O, w) + cross(h, v))
                 k = b
                 while k is not None:
-                    for i, kind_k, a_k in _motions(k):
-                        if i <= j:
-                            M[i, j] = M[j, i] = dot(a_k, lin if kind_k == "P" else ang)
+                    for i, v_k, w_k in S[k]:
+                        if k is b and i > j:
+                            continue
+                        M_ij = dot(v_k, lin) + dot(w_k, ang)
+                        M[i, j] += M_ij
+                        if k is not b or i != j:  # a mimic below its driver meets it twice on M_jj
+                            M[j, i] += M_ij
                     if k.parent is not None:
                         lin, ang = up(k, lin, ang)
                     k = k.parent
@@ -128,15 +129,6 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "recursive", compact)
-
-
-def _motions(body) -> list[tuple[int, str, sp.Matrix]]:
-    """(u index, "P" or "R", direction in body axes) of the joint's speeds."""
-    if body.index is None:
-        return []
-    if isinstance(body.joint, FreeFlyer):
-        return [(body.index + k, "P" if k < 3 else "R", sp.eye(3)[:, k % 3]) for k in range(6)]
-    return [(body.index, "P" if isinstance(body.joint, Prismatic) else "R", body.joint.axis)]
 
 
 def _transform(kin: Kinematics, body) -> tuple[sp.Matrix, sp.Matrix]:

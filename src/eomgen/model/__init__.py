@@ -1,10 +1,14 @@
 """What the system is: bodies, joints, frames, loads. Building a model computes nothing."""
-from .joints import Fixed, FlexibleLink, FreeFlyer, Joint, Placement, Prismatic, Revolute
+from .flexible_link import FlexibleLink
+from .free_flyer import FreeFlyer
+from .joints import Fixed, Joint, Placement, Prismatic, Revolute
+from .multi_axis import Cylindrical, Helical, Planar, Translation, Universal
+from .spherical import Spherical
 from .loads import Actuator, Damper, Force, Point, Spring, Torque
 from .system import Body, Frame, System
 from . import robots
 from .urdf import from_pinocchio, from_urdf, pinocchio_configuration
 
-__all__ = ["Actuator", "Body", "Damper", "Fixed", "FlexibleLink", "Force", "FreeFlyer", "Frame", "Joint", "Placement", "Point",
-           "Prismatic", "Revolute", "Spring", "System", "Torque", "from_pinocchio", "from_urdf",
-           "pinocchio_configuration"]
+__all__ = ["Actuator", "Body", "Cylindrical", "Damper", "Fixed", "FlexibleLink", "Force", "FreeFlyer", "Frame",
+           "Helical", "Joint", "Placement", "Planar", "Point", "Prismatic", "Revolute", "Spherical", "Spring",
+           "System", "Torque", "Translation", "Universal", "from_pinocchio", "from_urdf", "pinocchio_configuration"]

@@ -1,4 +1,15 @@
-"""Joints and placements: how a body's frame sits on and moves against its parent's frame."""
+"""Joints and placements: how a body's frame sits on and moves against its parent's frame.
+
+A joint moves its child frame in the joint frame by (R_q, t_q)(q) and is described, like Pinocchio's
+joint models, by its motion subspace S(q): column k is the (linear, angular) velocity (v_k, ω_k) of
+the child frame, in child axes, that the joint's speed u_k causes (v of the child origin relative to
+the joint frame). The relative motion of the child when u̇ = 0 is its bias,
+
+    α_rel = Σ_k ω̇_k u_k,    a_rel = ω × v + Σ_k v̇_k u_k     (child axes, v = Σ v_k u_k, ω = Σ ω_k u_k),
+
+where ẋ = Σ_j ∂x/∂q_j q̇_j(q, u) is the rate of a column's components. Every method derives its
+equations from R_q, t_q, S and the bias; a new joint type defines those, its coordinates, speeds and
+q̇(q, u), and (for the free cut) the wrenches it transmits without work."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -8,6 +19,8 @@ import sympy as sp
 from ..errors import ModelError
 from ..symbols import Generated
 from .values import is_numeric, matrix3, nonnegative, scalar, vector3
+
+Column = tuple[sp.Matrix, sp.Matrix]  # (v, ω) of one speed
 
 
 @dataclass(frozen=True)
@@ -30,13 +43,13 @@ class Placement:
         object.__setattr__(self, "translation", p)
 
 
-def unit_axis(axis, joint: str) -> sp.Matrix:
+def unit_axis(axis, joint: str, what: str = "axis") -> sp.Matrix:
     """The joint axis as a unit 3-vector (numeric axes are normalised; symbolic ones must be unit)."""
-    a = vector3(axis, f"joint '{joint}': axis")
+    a = vector3(axis, f"joint '{joint}': {what}")
     if is_numeric(a):
         norm = sp.sqrt(sum(x**2 for x in a))
         if norm == 0 or float(norm) < 1e-12:
-            raise ModelError(f"joint '{joint}': axis must not be zero")
+            raise ModelError(f"joint '{joint}': {what} must not be zero")
         if norm != 1:
             a = a / norm
     return a
@@ -45,6 +58,14 @@ def unit_axis(axis, joint: str) -> sp.Matrix:
 def rotation_about(a: sp.Matrix, angle: sp.Expr) -> sp.Matrix:
     """Rodrigues: R = I cos θ + sin θ [a]× + (1 − cos θ) a aᵀ, written out for principal axes."""
     c, s = sp.cos(angle), sp.sin(angle)
+    principal = {(1, 0, 0): 0, (0, 1, 0): 1, (0, 0, 1): 2}
+    for sign in (1, -1):
+        if tuple(sign * a) in principal:  # exact forms, no (1 − cos) terms
+            i = principal[tuple(sign * a)]
+            j, k = (i + 1) % 3, (i + 2) % 3
+            R = sp.eye(3)
+            R[j, j], R[j, k], R[k, j], R[k, k] = c, -sign * s, sign * s, c
+            return R
     return sp.eye(3) * c + s * skew(a) + (1 - c) * (a * a.T)
 
 
@@ -53,26 +74,77 @@ def skew(a: sp.Matrix) -> sp.Matrix:
     return sp.Matrix([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
 
 
-class Joint:
-    """A joint between a parent body and its child; `name` (str or Symbol) is also its coordinate q.
-    `armature` is the rotor inertia seen at the joint (Pinocchio's armature): it adds to M_ii only."""
+def joint_name(name, symbol_allowed: bool = True) -> tuple[str, sp.Symbol | None]:
+    """(name, coordinate symbol) of a joint named by a string (or a Symbol, its coordinate)."""
+    if symbol_allowed and isinstance(name, sp.Symbol):
+        return name.name, name
+    if isinstance(name, str) and name.strip():
+        return name, sp.Symbol(name)
+    raise ModelError(f"joint name must be a non-empty string{' or a sympy Symbol' * symbol_allowed}, "
+                     f"got {name!r}")
 
-    dof = 1
+
+def components(name: str, labels) -> list[Generated]:
+    """The coordinates (or speeds) of a joint with several, labelled `<name>_<label>`."""
+    return [Generated(f"{name}_{c}", (name, c)) for c in labels]
+
+
+def zero() -> sp.Matrix:
+    return sp.zeros(3, 1)
+
+
+class Joint:
+    """A joint between a parent body and its child (see the module). `armature` is the rotor inertia
+    seen at each of its speeds (Pinocchio's armature): it adds to those diagonal entries of M."""
+
+    group = "vector"  # configuration space for integration: "vector", "SO3", "SE2" or "SE3"
+    pitch_index: int | None = None  # ZYX angles: position of the pitch in the joint's q (singular at ±90°)
 
     def __init__(self, name, axis=(0, 0, 1), *, actuated: bool = True, armature=0) -> None:
-        if isinstance(name, sp.Symbol):
-            self.name, self.q = name.name, name
-        elif isinstance(name, str) and name.strip():
-            self.name, self.q = name, sp.Symbol(name)
-        else:
-            raise ModelError(f"joint name must be a non-empty string or a sympy Symbol, got {name!r}")
+        self.name, self.q = joint_name(name)
         self.axis = unit_axis(axis, self.name)
         self.actuated = actuated
-        self.armature = nonnegative(armature, f"joint '{self.name}': armature")  # adds to M_ii
+        self.armature = nonnegative(armature, f"joint '{self.name}': armature")
+
+    @property
+    def dof(self) -> int:
+        """Number of the joint's own speeds."""
+        return len(self.speeds)
 
     def motion(self) -> tuple[sp.Matrix, sp.Matrix]:
-        """(R_j, t_j): the child frame in the joint frame as a function of q."""
+        """(R_q, t_q): the child frame in the joint frame as a function of q."""
         raise NotImplementedError
+
+    def subspace(self) -> list[Column]:
+        """S: per speed, (v, ω) of the child frame in child axes."""
+        raise NotImplementedError
+
+    def joint_frame_subspace(self) -> list[Column] | None:
+        """S in joint axes where that is simpler (an axis the motion leaves in place, R_q a = a; Euler
+        angle rates), else None; its bias is then the plain rate Σ_k Ṡ_k u_k, in joint axes."""
+        return None
+
+    def bias(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """(a_rel, α_rel) in child axes, the joint's relative acceleration when u̇ = 0 (module)."""
+        S, u = self.subspace(), self.speeds
+        v = sum((vk * uk for (vk, _), uk in zip(S, u)), zero())
+        w = sum((wk * uk for (_, wk), uk in zip(S, u)), zero())
+        a = w.cross(v) + sum((self.rate(vk) * uk for (vk, _), uk in zip(S, u)), zero())
+        return a, sum((self.rate(wk) * uk for (_, wk), uk in zip(S, u)), zero())
+
+    def rate(self, x: sp.Matrix) -> sp.Matrix:
+        """ẋ = Σ_j ∂x/∂q_j q̇_j(q, u) for an expression in the joint's coordinates."""
+        return sum((x.diff(q) * qd for q, qd in zip(self.coordinates, self.qdot())), sp.zeros(*x.shape))
+
+    def reaction_basis(self) -> sp.Matrix:
+        """6 × (6 − dof), orthonormal columns: the wrenches (F; T) at the child origin, child axes,
+        that the joint transmits without work (Bᵀ S = 0), the directions of its reactions."""
+        raise NotImplementedError
+
+    def hamel(self, u: list, p: list) -> list | None:
+        """For speeds that are not coordinate rates (a body twist), the terms that Lagrange's
+        equations in these quasi-velocities add to b_k, given u and p = ∂T/∂u of this joint."""
+        return None
 
     def constants(self) -> dict[str, sp.Expr]:
         """The joint's constant fields by name (numbers or parameters)."""
@@ -91,8 +163,10 @@ class Joint:
 
     @property
     def accelerations(self) -> list[sp.Symbol]:
-        """Symbols of the joint's part of u̇."""
-        return [speed_symbol(q, "ddot") for q in self.coordinates]
+        """Symbols of the joint's part of u̇: q̈ where u = q̇ ('phi' → 'phiddot'), else u̇ ('wx' → 'wxdot')."""
+        if self.speeds == [speed_symbol(q) for q in self.coordinates]:
+            return [speed_symbol(q, "ddot") for q in self.coordinates]
+        return [Generated(f"{s.name}dot", ("dot", s)) for s in self.speeds]
 
     def qdot(self) -> list[sp.Expr]:
         """q̇ as a function of q and u (the kinematic differential equations)."""
@@ -108,159 +182,130 @@ def speed_symbol(q: sp.Symbol, suffix: str = "dot") -> sp.Symbol:
     return Generated(f"{base}{suffix}{sep}{sub}", (suffix, q))
 
 
-class Revolute(Joint):
-    """Rotation by q about `axis` (joint frame)."""
-
-    def motion(self):
-        return _axis_rotation(self.axis, self.q), sp.zeros(3, 1)
-
-
-class Prismatic(Joint):
-    """Translation by q along `axis` (joint frame)."""
-
-    def motion(self):
-        return sp.eye(3), self.axis * self.q
-
-
-class FreeFlyer(Joint):
-    """A free-flying base; only the root body of a tree may have it.
-
-    parametrization "quaternion" (Pinocchio's layout): q = [x, y, z, qx, qy, qz, qw] (scalar last),
-    u = [v, ω], the base twist in the base frame, q̇ = E(q) u with ṗ = R v and the quaternion rate
-    ½ q ⊗ (ω, 0). parametrization "euler": q = [x, y, z, ψ, θ, φ] (ZYX: R = Rz(ψ) Ry(θ) Rx(φ)) and
-    u = q̇; singular at pitch θ = ±90°, where ω no longer determines the angle rates."""
-
-    dof = 6
-
-    def __init__(self, name: str = "root_joint", parametrization: str = "quaternion") -> None:
-        if not isinstance(name, str) or not name.strip():
-            raise ModelError(f"joint name must be a non-empty string, got {name!r}")
-        if parametrization not in ("quaternion", "euler"):
-            raise ModelError(f"joint '{name}': parametrization must be 'quaternion' or 'euler', "
-                             f"got {parametrization!r}")
-        self.name, self.q, self.axis, self.actuated, self.armature = name, None, None, False, sp.Integer(0)
-        self.parametrization = parametrization
-        if parametrization == "quaternion":
-            self._q = [Generated(f"{name}_{c}", (name, c)) for c in ("x", "y", "z", "qx", "qy", "qz", "qw")]
-            self._u = [Generated(f"{name}_{c}", (name, c)) for c in ("vx", "vy", "vz", "wx", "wy", "wz")]
-        else:
-            self._q = [Generated(f"{name}_{c}", (name, c)) for c in ("x", "y", "z", "yaw", "pitch", "roll")]
-            self._u = [speed_symbol(x) for x in self._q]
-
-    @property
-    def coordinates(self):
-        return list(self._q)
-
-    @property
-    def speeds(self):
-        return list(self._u)
-
-    @property
-    def accelerations(self):
-        return [Generated(f"{s.name}dot", ("dot", s)) for s in self._u]
-
-    def rotation(self) -> sp.Matrix:
-        """R(q): for a unit quaternion as Pinocchio / Eigen compute it, or Rz(ψ) Ry(θ) Rx(φ)."""
-        if self.parametrization == "euler":
-            yaw, pitch, roll = self._q[3:]
-            return (_axis_rotation(sp.Matrix([0, 0, 1]), yaw) * _axis_rotation(sp.Matrix([0, 1, 0]), pitch)
-                    * _axis_rotation(sp.Matrix([1, 0, 0]), roll))
-        x, y, z, w = self._q[3:]
-        return sp.Matrix([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                          [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                          [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-
-    def angular_axes(self) -> list[sp.Matrix]:
-        """Euler: the world axes of ψ̇, θ̇, φ̇ (ω = ψ̇ e_z + θ̇ Rz e_y + φ̇ Rz Ry e_x)."""
-        yaw, pitch = self._q[3:5]
-        Rz = _axis_rotation(sp.Matrix([0, 0, 1]), yaw)
-        return [sp.Matrix([0, 0, 1]), Rz[:, 1], (Rz * _axis_rotation(sp.Matrix([0, 1, 0]), pitch))[:, 0]]
-
-    def motion(self):
-        return self.rotation(), sp.Matrix(self._q[:3])
-
-    def qdot(self) -> list[sp.Expr]:
-        """Euler: q̇ = u. Quaternion: ṗ = R v, (ẋ, ẏ, ż, ẇ) of the quaternion = ½ q ⊗ (ω, 0)."""
-        if self.parametrization == "euler":
-            return self.speeds
-        x, y, z, w = self._q[3:]
-        v, (wx, wy, wz) = sp.Matrix(self._u[:3]), self._u[3:]
-        p_dot = list(self.rotation() * v)
-        half = sp.Rational(1, 2)
-        return p_dot + [half * (w * wx - z * wy + y * wz), half * (z * wx + w * wy - x * wz),
-                        half * (-y * wx + x * wy + w * wz), half * (-x * wx - y * wy - z * wz)]
-
-    def __repr__(self) -> str:
-        return f"FreeFlyer({self.name!r}, parametrization={self.parametrization!r})"
+def complement(vectors: list[sp.Matrix]) -> sp.Matrix:
+    """An orthonormal basis (3 × (3 − k)) of the directions perpendicular to k orthonormal vectors."""
+    if not vectors:
+        return sp.eye(3)
+    if len(vectors) == 3:
+        return sp.zeros(3, 0)
+    if len(vectors) == 2:
+        n = vectors[0].cross(vectors[1])
+        return n / sp.sqrt(sum(x**2 for x in n))
+    a = vectors[0]
+    for k in range(3):
+        if all(a[i] == 0 for i in range(3) if i != k):
+            return sp.eye(3)[:, [i for i in range(3) if i != k]]
+    m = min(range(3), key=lambda i: abs(float(a[i])) if a[i].is_number else 1)
+    n1 = a.cross(sp.eye(3)[:, m])
+    n1 = n1 / sp.sqrt((n1.T * n1)[0])
+    return n1.row_join(a.cross(n1))
 
 
-class FlexibleLink(Joint):
-    """A planar flexible link on a revolute joint about its z axis: an Euler-Bernoulli beam of length L
-    along the body's x axis, mass per length m and bending stiffness E I, deflecting along y, split
-    into n elements with Hermite cubic shape functions. Coordinates: the joint angle θ, then the
-    deflection and slope of nodes 2 … n+1 (node 1 is clamped to the joint). Children attach to the
-    tip frame: translated by (L, w_tip) and turned by the tip slope. Lagrange II only."""
+def wrench_basis(forces: sp.Matrix, torques: sp.Matrix) -> sp.Matrix:
+    """6 × k: the force directions (torque 0) beside the torque directions (force 0)."""
+    return sp.diag(forces, torques) if forces.cols and torques.cols else (
+        forces.col_join(sp.zeros(3, forces.cols)) if forces.cols else sp.zeros(3, torques.cols).col_join(torques))
 
-    def __init__(self, name, length, mass_per_length, EI, elements: int = 1, *, actuated: bool = True) -> None:
-        super().__init__(name, axis=(0, 0, 1), actuated=actuated)
-        if not isinstance(elements, int) or isinstance(elements, bool) or elements < 1:
-            raise ModelError(f"joint '{self.name}': elements must be a positive integer, got {elements!r}")
-        values = {"length": length, "mass_per_length": mass_per_length, "EI": EI}
-        for label, value in values.items():
-            values[label] = scalar(value, f"joint '{self.name}': {label}")
-            if values[label].is_nonpositive:
-                raise ModelError(f"joint '{self.name}': {label} must be positive, got {values[label]}")
-        self.length, self.mass_per_length, self.EI = values.values()
-        self.elements = elements
-        self.nodal = [Generated(f"{kind}{k}_{self.name}", (self.name, kind, k))
-                      for k in range(2, elements + 2)
-                      for kind in ("w", "s")]
+
+class Mimic:
+    """q = k q_driver + o: a one-coordinate joint that follows another joint's coordinate (URDF
+    `<mimic>`, Pinocchio's JointModelMimic); its speed is k u_driver and its effort reaches the driver
+    multiplied by k. Bound to the driver when its body is added to a System."""
+
+    def __init__(self, joint: Joint, mimic) -> None:
+        if not (isinstance(mimic, tuple) and len(mimic) == 3):
+            raise ModelError(f"joint '{joint.name}': mimic must be (joint name, multiplier, offset), "
+                             f"got {mimic!r}")
+        other, k, o = mimic
+        if not isinstance(other, str) or not other:
+            raise ModelError(f"joint '{joint.name}': mimic needs the name of the joint it follows, got {other!r}")
+        if other == joint.name:
+            raise ModelError(f"joint '{joint.name}' cannot mimic itself")
+        self.driver_name = other
+        self.multiplier = scalar(k, f"joint '{joint.name}': mimic multiplier")
+        self.offset = scalar(o, f"joint '{joint.name}': mimic offset")
+        self.driver: Joint | None = None
+
+
+class OneAxis(Joint):
+    """A one-coordinate joint along or about `axis` (joint axes), optionally a mimic of another."""
+
+    def __init__(self, name, axis=(0, 0, 1), *, actuated: bool = True, armature=0, mimic=None) -> None:
+        super().__init__(name, axis, actuated=actuated, armature=armature)
+        self.mimic = None if mimic is None else Mimic(self, mimic)
+        if self.mimic is not None:
+            self.q = None  # no coordinate of its own
+
+    def bind(self, driver: Joint) -> None:
+        """Follow `driver` (a mimic's driving joint, found by the System)."""
+        self.mimic.driver = driver
 
     @property
-    def dof(self) -> int:
-        """Number of speeds: the joint angle and the deflection and slope of each free node."""
-        return 1 + len(self.nodal)
+    def value(self) -> sp.Expr:
+        """The joint variable: q, or k q_driver + o for a mimic."""
+        if self.mimic is None:
+            return self.q
+        if self.mimic.driver is None:
+            raise ModelError(f"joint '{self.name}': a mimic joint moves only once its body is in a System")
+        return self.mimic.multiplier * self.mimic.driver.q + self.mimic.offset
+
+    def joint_frame_subspace(self):
+        return self.subspace()
+
+    def scale(self) -> sp.Expr:
+        """The factor of the driver's speed in this joint's motion (1 for an ordinary joint)."""
+        return sp.Integer(1) if self.mimic is None else self.mimic.multiplier
 
     def constants(self) -> dict[str, sp.Expr]:
-        return {**super().constants(), "length": self.length, "mass_per_length": self.mass_per_length,
-                "EI": self.EI}
+        extra = {} if self.mimic is None else {"mimic multiplier": self.mimic.multiplier,
+                                               "mimic offset": self.mimic.offset}
+        return {**super().constants(), **extra}
 
-    @property
-    def coordinates(self):
-        return [self.q, *self.nodal]
+    def reaction_basis(self) -> sp.Matrix:
+        v, w = self.subspace()[0]
+        return wrench_basis(complement([v / self.scale()] if v != zero() else []),
+                            complement([w / self.scale()] if w != zero() else []))
+
+    def __repr__(self) -> str:
+        mimic = "" if self.mimic is None else \
+            f", mimic=({self.mimic.driver_name!r}, {self.mimic.multiplier}, {self.mimic.offset})"
+        return f"{type(self).__name__}({self.name!r}, axis={tuple(self.axis)}{mimic})"
+
+
+class Revolute(OneAxis):
+    """Rotation by q about `axis` (joint axes); S = (0, a)."""
 
     def motion(self):
-        return _axis_rotation(self.axis, self.q), sp.zeros(3, 1)
+        return rotation_about(self.axis, self.value), zero()
 
-    def tip(self) -> tuple[sp.Matrix, sp.Matrix]:
-        """(R, t) of the tip frame in the link frame: turned by the tip slope, at (L, w_tip)."""
-        w, s = self.nodal[-2:]
-        return _axis_rotation(self.axis, s), sp.Matrix([self.length, w, 0])
+    def subspace(self):
+        return [(zero(), self.scale() * self.axis)]
+
+
+class Prismatic(OneAxis):
+    """Translation by q along `axis` (joint axes); S = (a, 0)."""
+
+    def motion(self):
+        return sp.eye(3), self.axis * self.value
+
+    def subspace(self):
+        return [(self.scale() * self.axis, zero())]
 
 
 class Fixed(Joint):
     """No motion: the body is welded to its parent."""
 
-    dof = 0
-
     def __init__(self, name: str = "fixed") -> None:
         self.name, self.q, self.axis, self.actuated, self.armature = str(name), None, None, False, sp.Integer(0)
 
     def motion(self):
-        return sp.eye(3), sp.zeros(3, 1)
+        return sp.eye(3), zero()
+
+    def subspace(self):
+        return []
+
+    def reaction_basis(self):
+        return sp.eye(6)
 
     def __repr__(self) -> str:
         return f"Fixed({self.name!r})"
-
-
-def _axis_rotation(a: sp.Matrix, q: sp.Expr) -> sp.Matrix:
-    c, s = sp.cos(q), sp.sin(q)
-    principal = {(1, 0, 0): 0, (0, 1, 0): 1, (0, 0, 1): 2}
-    for sign in (1, -1):
-        if tuple(sign * a) in principal:  # exact forms, no (1 − cos) terms
-            i = principal[tuple(sign * a)]
-            j, k = (i + 1) % 3, (i + 2) % 3
-            R = sp.eye(3)
-            R[j, j], R[j, k], R[k, j], R[k, k] = c, -sign * s, sign * s, c
-            return R
-    return rotation_about(a, q)

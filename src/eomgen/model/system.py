@@ -10,7 +10,8 @@ import sympy as sp
 
 from ..errors import ModelError
 from ..symbols import Generated, user_symbols
-from .joints import Fixed, FreeFlyer, Joint, Placement, Revolute
+from .free_flyer import FreeFlyer
+from .joints import Fixed, Joint, OneAxis, Placement, Revolute
 from .loads import Actuator, Damper, Force, Motor, Point, Spring, Torque
 from .values import is_numeric, matrix3, nonnegative, scalar, vector3
 
@@ -19,7 +20,9 @@ from .values import is_numeric, matrix3, nonnegative, scalar, vector3
 class Body:
     """A rigid body of a `System` (made by `System.add_body`): parent, joint, mass, com and inertia
     (body frame), placement of the joint frame on the parent; `index` and `q_index` are the
-    positions of the joint's first speed in u and first coordinate in q (None for a fixed joint)."""
+    positions of the joint's first speed in u and first coordinate in q (None for a joint without
+    coordinates: fixed, or a mimic); `speed_indices` are the speeds of the joint's motion subspace
+    columns (its own, or a mimic's driver's)."""
 
     name: str
     parent: "Body | None"
@@ -30,6 +33,7 @@ class Body:
     placement: Placement
     index: int  # position of its (first) speed in u, or None for a fixed joint
     q_index: int  # position of its (first) coordinate in q, or None
+    speed_indices: list  # u index of each column of the joint's motion subspace
 
     def __repr__(self) -> str:
         parent = self.parent.name if self.parent else "world"
@@ -121,8 +125,10 @@ class System:
 
     @property
     def S(self) -> sp.Matrix:
-        """Selection matrix: one row per actuated joint, τ_gen = Sᵀ τ (a floating base is not actuated)."""
-        rows = [b.index for b in self.bodies if b.index is not None and b.joint.actuated]
+        """Selection matrix: one row per speed of an actuated joint, τ_gen = Sᵀ τ (a floating base is not
+        actuated; a mimic joint's effort is its driver's)."""
+        rows = [b.index + k for b in self.bodies if b.index is not None and b.joint.actuated
+                for k in range(b.joint.dof)]
         S = sp.zeros(len(rows), self.nv)
         for r, i in enumerate(rows):
             S[r, i] = 1
@@ -227,8 +233,9 @@ class System:
                                  f"add the parent first (bodies are {sorted(self._bodies)})") from None
         joint = Fixed(f"{name}_fixed") if joint is None else joint
         if not isinstance(joint, Joint):
-            raise ModelError(f"body '{name}': unsupported joint type {type(joint).__name__}; "
-                             "use Revolute, Prismatic or Fixed")
+            raise ModelError(f"body '{name}': unsupported joint type {type(joint).__name__}; use an eomgen "
+                             "joint (Revolute, Prismatic, Helical, Universal, Cylindrical, Planar, Translation, "
+                             "Spherical, FreeFlyer, Fixed)")
         used = set(joint.coordinates) & set(self.q)
         if used:
             raise ModelError(f"body '{name}': coordinate '{used.pop()}' is used by another joint already")
@@ -258,11 +265,31 @@ class System:
             self._add_joint(joint)
             for field_name, value in fields.items():
                 self._register(f"body '{name}': {field_name}", value)
+        speed_indices = list(range(self.nv, self.nv + joint.dof)) if joint.dof else self._mimic(name, joint)
         body = Body(name, parent, joint, mass, com, inertia, placement,
-                    self.nv if joint.dof else None, self.nq if joint.dof else None)
+                    self.nv if joint.dof else None, self.nq if joint.dof else None, speed_indices)
         self.bodies.append(body)
         self._bodies[name] = body
         return body
+
+    def _mimic(self, name: str, joint: Joint) -> list[int]:
+        """A mimic joint bound to its driver, which must be in the system already: [the driver's speed]."""
+        mimic = getattr(joint, "mimic", None)
+        if mimic is None:
+            return []
+        drivers = {b.joint.name: b for b in self.bodies}
+        if mimic.driver_name not in drivers:
+            raise ModelError(f"body '{name}': joint '{joint.name}' mimics the unknown joint '{mimic.driver_name}'; "
+                             f"add the driving joint first (joints are {sorted(drivers)})")
+        driver = drivers[mimic.driver_name]
+        if getattr(driver.joint, "mimic", None) is not None:
+            raise ModelError(f"body '{name}': joint '{joint.name}' mimics '{driver.joint.name}', which mimics "
+                             f"'{driver.joint.mimic.driver_name}' itself; mimic the driving joint directly")
+        if len(driver.joint.coordinates) != 1 or driver.joint.qdot() != driver.joint.speeds:
+            raise ModelError(f"body '{name}': joint '{joint.name}' mimics '{driver.joint.name}', which is not a "
+                             "one-coordinate joint (a mimic follows a revolute, prismatic or helical joint)")
+        joint.bind(driver.joint)
+        return [driver.index]
 
     def add_frame(self, name: str, body, placement: Placement | None = None) -> Frame:
         """A named frame fixed on a body (a tool tip, a contact point, a URDF link merged away)."""
@@ -355,7 +382,7 @@ class System:
         armature and the torque N k i − N² f q̇ between the body and its parent. Its current
         i_<name> and voltage (default U_<name>) are parameters of the equations of motion."""
         b = self.body(body)
-        if not isinstance(b.joint, Revolute):
+        if not isinstance(b.joint, Revolute) or b.joint.mimic is not None:
             raise ModelError(f"motor on body '{b.name}': a DC motor drives a revolute joint, "
                              f"not {type(b.joint).__name__}")
         name = name or f"motor_{b.joint.name}"
@@ -408,6 +435,12 @@ class System:
             raise ModelError(f"reduced: unknown joints {unknown}; joints are {sorted(names)}")
         if self.loads or self.contacts or self.motors:
             raise ModelError("reduced: loads, contacts and motors are not carried over; add them to the reduced system")
+
+        mimics = {b.joint.name: b.joint.mimic.driver_name for b in self.bodies
+                  if isinstance(b.joint, OneAxis) and b.joint.mimic is not None}
+        for mimic, driver in mimics.items():
+            if driver in lock:
+                raise ModelError(f"reduced: joint '{mimic}' mimics '{driver}'; it cannot follow a locked joint")
 
         def weld(b):
             joint = b.joint

@@ -8,7 +8,8 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
-from .joints import Fixed, FreeFlyer, Placement, Prismatic, Revolute
+from .free_flyer import FreeFlyer
+from .joints import Fixed, Placement, Prismatic, Revolute
 from .system import System
 from .urdf_check import check_urdf
 
