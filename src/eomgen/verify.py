@@ -1,5 +1,9 @@
 """Comparison with Pinocchio: M, b, g, frame Jacobians and J̇u at random states.
 
+J̇ u is compared with the frame's classical acceleration at u̇ = 0 from `forwardKinematics`: Pinocchio's
+`getFrameJacobianTimeVariation` leaves out the rate of a joint's own motion subspace (Ṡ of a universal
+or ZYX spherical joint), which finite differences of its own Jacobian show.
+
 The reference is the Pinocchio model the system was imported from (URDF), or else one built from the
 system with Pinocchio's own API (addJoint, appendBodyToJoint, addFrame)."""
 from __future__ import annotations
@@ -12,14 +16,49 @@ import numpy as np
 from .codegen import codegen
 from .errors import ModelError
 from .methods import derive
-from .model import FreeFlyer, Revolute, System
+from .model import (Cylindrical, FreeFlyer, Helical, Planar, Prismatic, Revolute, Spherical, System,
+                    Translation, Universal)
 from .model.urdf import pinocchio_configuration
 from .state import random_states
 
 
+def pinocchio_joint(joint, arr):
+    """Pinocchio's model of an eomgen joint (a cylindrical joint is a composite of its translation and
+    rotation; a mimic joint is built as its type and turned into a mimic afterwards)."""
+    import pinocchio as pin
+
+    def axis_model(kind, axis):
+        a = arr(axis).ravel()
+        principal = {(1.0, 0.0, 0.0): "X", (0.0, 1.0, 0.0): "Y", (0.0, 0.0, 1.0): "Z"}.get(tuple(a))
+        return getattr(pin, f"JointModel{kind}{principal}")() if principal else \
+            getattr(pin, {"R": "JointModelRevoluteUnaligned", "P": "JointModelPrismaticUnaligned"}[kind])(a)
+
+    if isinstance(joint, FreeFlyer):
+        if joint.parametrization != "quaternion":
+            raise ModelError(f"joint '{joint.name}': Pinocchio has no ZYX Euler free flyer; compare "
+                             "the quaternion base with Pinocchio and map the speeds")
+        return pin.JointModelFreeFlyer()
+    if isinstance(joint, Spherical):
+        return pin.JointModelSpherical() if joint.parametrization == "quaternion" else pin.JointModelSphericalZYX()
+    if isinstance(joint, Universal):
+        return pin.JointModelUniversal(arr(joint.axis1).ravel(), arr(joint.axis2).ravel())
+    if isinstance(joint, Helical):
+        return pin.JointModelHelicalUnaligned(arr(joint.axis).ravel(), float(joint.pitch))
+    if isinstance(joint, Cylindrical):
+        composite = pin.JointModelComposite(axis_model("P", joint.axis))
+        composite.addJoint(axis_model("R", joint.axis))
+        return composite
+    simple = {Planar: pin.JointModelPlanar, Translation: pin.JointModelTranslation}
+    if type(joint) in simple:
+        return simple[type(joint)]()
+    if isinstance(joint, (Revolute, Prismatic)):
+        return axis_model("R" if isinstance(joint, Revolute) else "P", joint.axis)
+    raise ModelError(f"joint '{joint.name}': no Pinocchio counterpart for {type(joint).__name__}")
+
+
 def to_pinocchio(system: System):
-    """A Pinocchio model of a numeric system (revolute and prismatic joints on any axis, fixed bodies
-    merged into their moving ancestor, bodies and frames as frames)."""
+    """A Pinocchio model of a numeric system (every joint type by Pinocchio's joint model, fixed bodies
+    merged into their moving ancestor, bodies and frames as frames, mimic joints as Pinocchio's)."""
     import pinocchio as pin
 
     def arr(m):
@@ -31,24 +70,18 @@ def to_pinocchio(system: System):
 
     model = pin.Model()
     model.gravity.linear = arr(system.gravity).ravel()
-    where = {}  # body -> (Pinocchio joint id, SE3 of the body frame in that joint's frame)
+    where, ids, mimics = {}, {}, []  # body -> (Pinocchio joint id, SE3 of the body frame in that joint's frame)
     for body in system.bodies:
         jid, M_parent = where[body.parent] if body.parent else (0, pin.SE3.Identity())
         M = M_parent * pin.SE3(arr(body.placement.rotation), arr(body.placement.translation).ravel())
-        if isinstance(body.joint, FreeFlyer):
-            if body.joint.parametrization != "quaternion":
-                raise ModelError(f"joint '{body.joint.name}': Pinocchio has no ZYX Euler free flyer; compare "
-                                 "the quaternion base with Pinocchio and map the speeds")
-            jid = model.addJoint(jid, pin.JointModelFreeFlyer(), M, body.joint.name)
-            M = pin.SE3.Identity()
-        elif body.index is not None:
-            axis = arr(body.joint.axis).ravel()
-            kind = "R" if isinstance(body.joint, Revolute) else "P"
-            principal = {(1.0, 0.0, 0.0): "X", (0.0, 1.0, 0.0): "Y", (0.0, 0.0, 1.0): "Z"}.get(tuple(axis))
-            joint = (getattr(pin, f"JointModel{kind}{principal}")() if principal else
-                     (pin.JointModelRevoluteUnaligned if kind == "R" else pin.JointModelPrismaticUnaligned)(axis))
-            jid = model.addJoint(jid, joint, M, body.joint.name)
-            model.armature[model.joints[jid].idx_v] = float(body.joint.armature)
+        if body.speed_indices:
+            jid = model.addJoint(jid, pinocchio_joint(body.joint, arr), M, body.joint.name)
+            ids[body.joint.name] = jid
+            if body.index is not None:
+                for k in range(body.joint.dof):
+                    model.armature[model.joints[jid].idx_v + k] = float(body.joint.armature)
+            else:
+                mimics.append(body.joint)
             M = pin.SE3.Identity()
         model.appendBodyToJoint(jid, pin.Inertia(float(body.mass), arr(body.com).ravel(), arr(body.inertia)), M)
         model.addFrame(pin.Frame(body.name, jid, M, pin.FrameType.BODY))
@@ -57,6 +90,9 @@ def to_pinocchio(system: System):
         jid, M = where[f.body]
         placement = M * pin.SE3(arr(f.placement.rotation), arr(f.placement.translation).ravel())
         model.addFrame(pin.Frame(f.name, jid, placement, pin.FrameType.OP_FRAME))
+    for joint in mimics:
+        model = pin.transformJointIntoMimic(model, ids[joint.mimic.driver.name], ids[joint.name],
+                                            float(joint.mimic.multiplier), float(joint.mimic.offset))
     return model
 
 
@@ -137,13 +173,14 @@ def verify(system: System, method: str = "projected_newton_euler", backend: str 
         record("M", f.M(qk), np.triu(M) + np.triu(M, 1).T)
         record("g", f.g(qk), g)
         record("b", f.b(qk, uk), pin.nonLinearEffects(model, data, qp, uk) - g)
-        pin.computeJointJacobiansTimeVariation(model, data, qp, uk)
+        pin.computeJointJacobians(model, data, qp)
+        pin.forwardKinematics(model, data, qp, uk, np.zeros(model.nv))  # J̇ u: the acceleration at u̇ = 0
         pin.updateFramePlacements(model, data)
         for name in frames:
             if not model.existFrame(name):
                 raise ModelError(f"frame {name!r} is not in the Pinocchio model")
             fid = model.getFrameId(name)
             record(f"J {name}", f.jacobian(name, qk), pin.getFrameJacobian(model, data, fid, LWA))
-            record(f"Jdot_u {name}", f.jacobian_dot_u(name, qk, uk),
-                   np.reshape(pin.getFrameJacobianTimeVariation(model, data, fid, LWA), (6, -1)) @ uk)
+            a = pin.getFrameClassicalAcceleration(model, data, fid, LWA)
+            record(f"Jdot_u {name}", f.jacobian_dot_u(name, qk, uk), np.r_[a.linear, a.angular])
     return report

@@ -10,6 +10,7 @@ import sympy as sp
 from ..errors import ModelError
 from .free_flyer import FreeFlyer
 from .joints import Fixed, Placement, Prismatic, Revolute
+from .multi_axis import Planar
 from .system import System
 from .urdf_check import check_urdf
 
@@ -142,12 +143,15 @@ def from_urdf(path, floating_base: bool | str = False, srdf=None, strict: bool =
 
 
 def pinocchio_configuration(system: System, q) -> np.ndarray:
-    """Pinocchio's q from eomgen's: a continuous joint's angle θ becomes (cos θ, sin θ); a
-    free-flyer base has the same 7 numbers in both."""
+    """Pinocchio's q from eomgen's: a continuous joint's angle θ becomes (cos θ, sin θ), as does a planar
+    joint's; the quaternions of a free flyer and a ball joint are the same numbers in both."""
     q = np.asarray(q, float)
     parts, k = [], 0
     for joint, is_continuous in zip(system.joints, getattr(system, "continuous", [False] * len(system.joints))):
         n = len(joint.coordinates)
-        parts += [np.cos(q[..., k]), np.sin(q[..., k])] if is_continuous else [q[..., k + i] for i in range(n)]
+        parts += [q[..., k + i] for i in range(n - 1)] if isinstance(joint, Planar) else []
+        angle = is_continuous or isinstance(joint, Planar)
+        parts += [np.cos(q[..., k + n - 1]), np.sin(q[..., k + n - 1])] if angle else \
+            [q[..., k + i] for i in range(n)]
         k += n
     return np.stack(parts, axis=-1)
