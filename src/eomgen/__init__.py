@@ -8,6 +8,7 @@ from .errors import ModelError
 from .kinematics import Kinematics
 from .methods import derive
 from .methods.kane import KaneEquations, kane
+from .model.dh import DHLink, from_dh
 from .model import Fixed, FlexibleLink, FreeFlyer, Placement, Prismatic, Revolute, System, from_urdf, robots
 from .progress import quiet
 from .simplification import simplified

@@ -1,4 +1,5 @@
 """What the system is: bodies, joints, frames, loads. Building a model computes nothing."""
+from .dh import DHLink, from_dh
 from .joints import Fixed, FlexibleLink, FreeFlyer, Joint, Placement, Prismatic, Revolute
 from .loads import Actuator, Damper, Force, Point, Spring, Torque
 from .system import Body, Frame, System
