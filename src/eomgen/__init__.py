@@ -8,8 +8,8 @@ from .errors import ModelError
 from .kinematics import Kinematics
 from .methods import derive
 from .methods.kane import KaneEquations, kane
-from .model import (Cylindrical, Fixed, FlexibleLink, FreeFlyer, Helical, Placement, Planar, Prismatic, Revolute,
-                    Spherical, System, Translation, Universal, from_urdf, robots)
+from .model import (Cylindrical, DHLink, Fixed, FlexibleLink, FreeFlyer, Helical, Placement, Planar, Prismatic,
+                    Revolute, Spherical, System, Translation, Universal, from_dh, from_urdf, robots)
 from .progress import quiet
 from .simplification import simplified
 from .worked import Solution, Step, solution
@@ -17,8 +17,8 @@ from .state import integrate, random_states
 from .tradeoff import tradeoff
 from .verify import verify
 
-__all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "Fixed", "FlexibleLink", "FreeFlyer", "Helical",
+__all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed", "FlexibleLink", "FreeFlyer", "Helical",
            "Kinematics", "ModelError", "Placement", "Planar", "Prismatic", "Revolute", "Solution", "Spherical", "Step",
-           "System", "Translation", "Universal", "codegen", "derive",
+           "System", "Translation", "Universal", "codegen", "derive", "from_dh",
            "from_urdf", "integrate", "kane", "quiet", "random_states", "robots", "simplified", "solution",
            "tradeoff", "verify", "write_c", "write_module"]

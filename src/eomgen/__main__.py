@@ -15,7 +15,7 @@ from .model import System, from_urdf, robots
 
 def load(name_or_urdf: str) -> System:
     """A robot of example-robot-data by name, or a URDF file by path."""
-    if name_or_urdf in robots.ROBOTS:
+    if name_or_urdf in robots.ROBOTS or name_or_urdf in robots.DH_ROBOTS:
         return robots.load(name_or_urdf)
     if name_or_urdf.endswith(".urdf") or Path(name_or_urdf).exists():
         return from_urdf(name_or_urdf)

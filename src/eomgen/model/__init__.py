@@ -1,4 +1,5 @@
 """What the system is: bodies, joints, frames, loads. Building a model computes nothing."""
+from .dh import DHLink, from_dh
 from .flexible_link import FlexibleLink
 from .free_flyer import FreeFlyer
 from .joints import Fixed, Joint, Placement, Prismatic, Revolute
@@ -9,6 +10,6 @@ from .system import Body, Frame, System
 from . import robots
 from .urdf import from_pinocchio, from_urdf, pinocchio_configuration
 
-__all__ = ["Actuator", "Body", "Cylindrical", "Damper", "Fixed", "FlexibleLink", "Force", "FreeFlyer", "Frame",
+__all__ = ["Actuator", "Body", "Cylindrical", "DHLink", "Damper", "Fixed", "FlexibleLink", "Force", "FreeFlyer", "Frame",
            "Helical", "Joint", "Placement", "Planar", "Point", "Prismatic", "Revolute", "Spherical", "Spring",
-           "System", "Torque", "Translation", "Universal", "from_pinocchio", "from_urdf", "pinocchio_configuration"]
+           "System", "Torque", "Translation", "Universal", "from_dh", "from_pinocchio", "from_urdf", "pinocchio_configuration"]

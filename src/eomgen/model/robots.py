@@ -2,12 +2,19 @@
 the loaders, pr2, so100, so101, tiago_pro and xarm7, by their file names).
 
 example-robot-data 6 ships only model files (no Python module); they sit in the package's
-`cmeel.prefix/share/example-robot-data/robots` folder."""
+`cmeel.prefix/share/example-robot-data/robots` folder.
+
+Besides them, the DH robots of `DH_ROBOTS` (puma560, stanford), built from the published tables of
+`dh_tables` by `from_dh`."""
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
+from typing import Callable
 
 from ..errors import ModelError
+from . import dh_tables
+from .dh import DHLink, from_dh
 from .system import System
 from .urdf import from_urdf
 
@@ -66,6 +73,10 @@ ROBOTS: dict[str, tuple[str, str | None, bool]] = {
     "z1": ("z1_description/urdf/z1.urdf", None, False),
 }
 
+# name: its DH table (standard convention), built by from_dh
+DH_ROBOTS: dict[str, Callable[[], list[DHLink]]] = {"puma560": dh_tables.puma560,
+                                                     "stanford": dh_tables.stanford}
+
 
 def robots_folder() -> Path:
     """Where example-robot-data keeps its model files."""
@@ -82,14 +93,16 @@ def robots_folder() -> Path:
 
 
 def names(floating_base: bool | None = None) -> list[str]:
-    """The robot names (optionally only the fixed-base or floating-base ones)."""
+    """The names of example-robot-data's robots (optionally only the fixed-base or floating-base ones);
+    the DH robots are the keys of `DH_ROBOTS`."""
     return sorted(n for n, (_, _, fb) in ROBOTS.items() if floating_base is None or fb == floating_base)
 
 
 def paths(name: str) -> tuple[Path, Path | None, bool]:
     """(URDF, SRDF or None, floating base) of a robot."""
     if name not in ROBOTS:
-        raise ModelError(f"unknown robot {name!r}; robots are {', '.join(names())}")
+        raise ModelError(f"unknown robot {name!r}; robots are {', '.join(names())}, and the DH robots "
+                         f"{', '.join(DH_ROBOTS)}")
     urdf, srdf, floating = ROBOTS[name]
     folder = robots_folder()
     return folder / urdf, (folder / srdf if srdf else None), floating
@@ -99,7 +112,16 @@ def load(name: str, base: str = "quaternion") -> System:
     """A robot of example-robot-data as a `System` (armature from its SRDF where it has rotor
     parameters, as example-robot-data's own loader sets it); a floating base in `base`
     parametrization ("quaternion" or "euler"). Mimic joints (panda's second finger, say) are
-    independent joints, as in example-robot-data's own loader, with a warning naming them."""
+    independent joints, as in example-robot-data's own loader, with a warning naming them.
+
+    A DH robot ("puma560", "stanford") is built from its table with `from_dh`; its published inertias
+    that break the triangle inequality (see `dh_tables`) are taken as they are, without a warning."""
+    if name in DH_ROBOTS:
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message=".*triangle inequality")
+            system = from_dh(DH_ROBOTS[name](), strict=False)
+        system.name = name
+        return system
     urdf, srdf, floating = paths(name)
     system = from_urdf(urdf, floating_base=floating and base, srdf=srdf, mimic="independent")
     system.name = name
