@@ -136,7 +136,7 @@ def inertias(draw, mass: float) -> tuple:
 class BodySpec:
     name: str
     parent: int  # index of an earlier body, -1 for the world
-    kind: str  # "revolute", "prismatic" or "fixed"
+    kind: str  # "revolute", "prismatic", "fixed" or one of JOINTS
     joint: str
     axis: tuple
     rotation: tuple  # placement of the joint frame in the parent's body frame
@@ -144,6 +144,14 @@ class BodySpec:
     mass: float
     com: tuple
     inertia: tuple  # about the com, body axes
+    axis2: tuple = (0.0, 1.0, 0.0)  # universal joint: second axis
+    pitch: float = 0.0  # helical joint
+
+
+# the other joint types: (number of coordinates, of speeds)
+JOINTS = {"spherical": (4, 3), "zyx": (3, 3), "universal": (2, 2), "planar": (3, 3), "cylindrical": (2, 2),
+          "translation": (3, 3), "helical": (1, 1)}
+SIZE = {"revolute": (1, 1), "prismatic": (1, 1), "fixed": (0, 0), **JOINTS}
 
 
 @dataclass
@@ -190,17 +198,25 @@ def trees(draw, max_bodies: int = 6, loads: bool = True, fixed: bool = True, fra
     joint_names = draw(unique_names(n, cluster=cluster))
     tree = Tree(gravity=gravity)
     for i in range(n):
-        kinds = ["revolute", "revolute", "prismatic"] + (["fixed"] if fixed and i > 0 else [])
+        kinds = ["revolute", "revolute", "prismatic", "other"] + (["fixed"] if fixed and i > 0 else [])
         kind = draw(st.sampled_from(kinds))
         if i == n - 1 and not tree.moving:
-            kind = draw(st.sampled_from(["revolute", "prismatic"]))  # at least one moving joint
+            kind = draw(st.sampled_from(["revolute", "prismatic", "other"]))  # at least one moving joint
+        if kind == "other":
+            kind = draw(st.sampled_from(sorted(JOINTS)))
+        axis = draw(unit_vectors())
+        axis2 = np.array(draw(unit_vectors()))
+        if np.linalg.norm(np.cross(axis, axis2)) < 0.2:  # a universal joint's axes are not parallel
+            axis2 = np.cross(axis, (1.0, 0.0, 0.0) if abs(axis[0]) < 0.9 else (0.0, 1.0, 0.0))
+            axis2 /= np.linalg.norm(axis2)
         mass = draw(st.one_of(st.just(0.0), _floats(0.05, 5.0), _floats(0.05, 5.0), _floats(0.05, 5.0)))
         if i == n - 1 and all(b.mass == 0 for b in tree.bodies) and mass == 0:
             mass = 1.0  # total mass > 0
         tree.bodies.append(BodySpec(
             name=body_names[i], parent=draw(st.integers(-1, i - 1)), kind=kind, joint=joint_names[i],
-            axis=draw(unit_vectors()), rotation=draw(rotations()), translation=draw(vectors()),
-            mass=mass, com=draw(vectors(-0.3, 0.3)) if mass else (0.0, 0.0, 0.0), inertia=draw(inertias(mass))))
+            axis=axis, rotation=draw(rotations()), translation=draw(vectors()),
+            mass=mass, com=draw(vectors(-0.3, 0.3)) if mass else (0.0, 0.0, 0.0), inertia=draw(inertias(mass)),
+            axis2=tuple(float(x) for x in axis2), pitch=draw(_floats(-0.3, 0.3))))
     frame_names = draw(unique_names(draw(st.integers(0, frames)), taken=set(body_names), cluster=cluster))
     for name in frame_names:
         tree.frames.append(FrameSpec(name, draw(st.integers(0, n - 1)), draw(rotations()), draw(vectors())))
@@ -228,7 +244,14 @@ def eomgen_system(tree: Tree) -> eg.System:
     for b in tree.bodies:
         joint = {"revolute": lambda: eg.Revolute(b.joint, axis=b.axis),
                  "prismatic": lambda: eg.Prismatic(b.joint, axis=b.axis),
-                 "fixed": lambda: eg.Fixed(b.joint)}[b.kind]()
+                 "fixed": lambda: eg.Fixed(b.joint),
+                 "spherical": lambda: eg.Spherical(b.joint),
+                 "zyx": lambda: eg.Spherical(b.joint, parametrization="zyx"),
+                 "universal": lambda: eg.Universal(b.joint, b.axis, b.axis2),
+                 "planar": lambda: eg.Planar(b.joint),
+                 "cylindrical": lambda: eg.Cylindrical(b.joint, b.axis),
+                 "translation": lambda: eg.Translation(b.joint),
+                 "helical": lambda: eg.Helical(b.joint, b.axis, b.pitch)}[b.kind]()
         bodies.append(system.add_body(b.name, parent=bodies[b.parent] if b.parent >= 0 else None, joint=joint,
                                       mass=b.mass, com=b.com, inertia=[list(r) for r in b.inertia],
                                       placement=eg.Placement(rotation=[list(r) for r in b.rotation],
@@ -267,8 +290,13 @@ class PinocchioTree:
             i = stack.pop()
             order.append(i)
             stack += reversed(children[i])
-        index = {i: k for k, i in enumerate(tree.moving)}
-        self.perm = np.array([index[i] for i in order if i in index], dtype=int)
+        q_at, u_at, nq, nv = {}, {}, 0, 0  # eomgen's first coordinate and speed of each body's joint
+        for i in tree.moving:
+            q_at[i], u_at[i] = nq, nv
+            nq, nv = nq + SIZE[tree.bodies[i].kind][0], nv + SIZE[tree.bodies[i].kind][1]
+        moving = [i for i in order if i in q_at]
+        self.perm = np.array([u_at[i] + k for i in moving for k in range(SIZE[tree.bodies[i].kind][1])], dtype=int)
+        self.joints_q = [(tree.bodies[i].kind, q_at[i]) for i in moving]
         carrier = {}  # per body: (Pinocchio joint id, placement of the body frame in that joint's frame)
         for i in order:
             b = tree.bodies[i]
@@ -277,10 +305,8 @@ class PinocchioTree:
             if b.kind == "fixed":
                 carrier[i] = (parent_joint, placement)
             else:
-                axis = np.array(b.axis, float)
-                jm = (pin.JointModelRevoluteUnaligned(axis) if b.kind == "revolute"
-                      else pin.JointModelPrismaticUnaligned(axis))
-                carrier[i] = (model.addJoint(parent_joint, jm, placement, f"joint{i}"), pin.SE3.Identity())
+                carrier[i] = (model.addJoint(parent_joint, _pinocchio_joint(b), placement, f"joint{i}"),
+                              pin.SE3.Identity())
             jid, offset = carrier[i]
             inertia = pin.Inertia(b.mass, np.array(b.com, float), np.array(b.inertia, float))
             model.appendBodyToJoint(jid, inertia, offset)
@@ -304,11 +330,19 @@ class PinocchioTree:
         self.model = model
         self.data = model.createData()
 
+    def configuration(self, q) -> np.ndarray:
+        """Pinocchio's q: the joints in its order, a planar joint's angle as (cos θ, sin θ)."""
+        parts = []
+        for kind, k in self.joints_q:
+            x = list(np.asarray(q, float)[k:k + SIZE[kind][0]])
+            parts += x[:2] + [np.cos(x[2]), np.sin(x[2])] if kind == "planar" else x
+        return np.array(parts)
+
     def dynamics(self, q, u):
         """(M, b, g) as Pinocchio computes them: crba (upper triangle mirrored), nonLinearEffects − g,
         computeGeneralizedGravity."""
         model, data, perm, n = self.model, self.data, self.perm, self.model.nv
-        q, u = np.asarray(q, float)[perm], np.asarray(u, float)[perm]
+        q, u = self.configuration(q), np.asarray(u, float)[perm]
         Mp = pin.crba(model, data, q).reshape(n, n)
         Mp = np.triu(Mp) + np.triu(Mp, 1).T
         gp = pin.computeGeneralizedGravity(model, data, q).reshape(n)
@@ -319,7 +353,7 @@ class PinocchioTree:
 
     def jacobians(self, q) -> dict:
         """[J_P; J_R] (LOCAL_WORLD_ALIGNED) of every body origin and named frame, keyed by eomgen name."""
-        pin.computeJointJacobians(self.model, self.data, np.asarray(q, float)[self.perm])
+        pin.computeJointJacobians(self.model, self.data, self.configuration(q))
         pin.updateFramePlacements(self.model, self.data)
         out = {}
         for i, b in enumerate(self.tree.bodies):
@@ -339,7 +373,7 @@ class PinocchioTree:
     def load_forces(self, q) -> dict:
         """The generalized force of each load, from Pinocchio's frame Jacobians and placements:
         Jᵀ F for a force, J_Rᵀ T for a torque, (J_a − J_b)ᵀ F_a for a spring (F_a = −k (ℓ − l0) d/ℓ)."""
-        pin.computeJointJacobians(self.model, self.data, np.asarray(q, float)[self.perm])
+        pin.computeJointJacobians(self.model, self.data, self.configuration(q))
         pin.updateFramePlacements(self.model, self.data)
         out = {}
         for k, load in enumerate(self.tree.loads):
@@ -362,15 +396,38 @@ class PinocchioTree:
         return out
 
     def spring_lengths(self, q) -> list[float]:
-        pin.framesForwardKinematics(self.model, self.data, np.asarray(q, float)[self.perm])
+        pin.framesForwardKinematics(self.model, self.data, self.configuration(q))
         return [float(np.linalg.norm(self.data.oMf[self.frame_ids[("load", k, "a")]].translation
                                      - self.data.oMf[self.frame_ids[("load", k, "b")]].translation))
                 for k, load in enumerate(self.tree.loads) if load.kind == "spring"]
 
 
+def _pinocchio_joint(b: BodySpec):
+    """Pinocchio's joint model of a body's joint, by Pinocchio's names."""
+    axis = np.array(b.axis, float)
+    if b.kind == "cylindrical":
+        composite = pin.JointModelComposite(pin.JointModelPrismaticUnaligned(axis))
+        composite.addJoint(pin.JointModelRevoluteUnaligned(axis))
+        return composite
+    return {"revolute": lambda: pin.JointModelRevoluteUnaligned(axis),
+            "prismatic": lambda: pin.JointModelPrismaticUnaligned(axis),
+            "spherical": pin.JointModelSpherical, "zyx": pin.JointModelSphericalZYX,
+            "universal": lambda: pin.JointModelUniversal(axis, np.array(b.axis2, float)),
+            "planar": pin.JointModelPlanar, "translation": pin.JointModelTranslation,
+            "helical": lambda: pin.JointModelHelicalUnaligned(axis, b.pitch)}[b.kind]()
+
+
 def random_state(tree: Tree, rng):
-    """q (angles in [−π, π], slides in [−1, 1]) and u in [−2, 2]; the same layout in both libraries."""
-    n = len(tree.moving)
-    q = np.array([rng.uniform(-np.pi, np.pi) if tree.bodies[i].kind == "revolute" else rng.uniform(-1, 1)
-                  for i in tree.moving])
-    return q, rng.uniform(-2, 2, n)
+    """q (angles in [−π, π], ZYX pitch within ±1.3, slides in [−1, 1], unit quaternions) and u in [−2, 2],
+    in eomgen's layout."""
+    q = []
+    for i in tree.moving:
+        kind = tree.bodies[i].kind
+        if kind == "spherical":
+            quat = rng.normal(size=4)
+            q += list(quat / np.linalg.norm(quat))
+        else:
+            angular = {"revolute": [1], "helical": [1], "universal": [1, 1], "zyx": [1, 0.4, 1], "planar": [0, 0, 1],
+                       "cylindrical": [0, 1]}.get(kind, [0] * SIZE[kind][0])
+            q += [rng.uniform(-np.pi, np.pi) * a if a else rng.uniform(-1, 1) for a in angular]
+    return np.array(q), rng.uniform(-2, 2, sum(SIZE[tree.bodies[i].kind][1] for i in tree.moving))

@@ -88,7 +88,7 @@ def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title
              f"PARAMETERS = {f.parameters.names!r}",
              f"ASSUMPTIONS = {f.parameters.assumptions!r}  # checked in every call (positive: > 0, ...)",
              f"FRAMES = {tuple(frames)!r}",
-             f"ACTUATED = {tuple(j.name for j in eom.system.joints if j.actuated)!r}  # τ_a, a row of S each",
+             f"ACTUATED = {tuple(eom.system.actuated)!r}  # τ_a, a row of S each",
              f"S = numpy.array({f.S.tolist()!r}).reshape(len(ACTUATED), NV)  # selection matrix",
              _HELPERS, RUNTIME, PARAMETER_RUNTIME]
     parts += [f.functions[key].source.replace("def f(", f"def _{key}(", 1) for key in keys]

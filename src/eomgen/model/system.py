@@ -124,6 +124,11 @@ class System:
         return any(isinstance(j, FreeFlyer) for j in self.joints)
 
     @property
+    def actuated(self) -> list[str]:
+        """What each row of S drives: the joint's name, with [k] for its k-th speed if it has several."""
+        return [j.name if j.dof == 1 else f"{j.name}[{k}]" for j in self.joints if j.actuated for k in range(j.dof)]
+
+    @property
     def S(self) -> sp.Matrix:
         """Selection matrix: one row per speed of an actuated joint, τ_gen = Sᵀ τ (a floating base is not
         actuated; a mimic joint's effort is its driver's)."""
