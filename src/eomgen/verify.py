@@ -168,7 +168,8 @@ def verify(system: System, method: str = "projected_newton_euler", backend: str 
 
     for qk, uk in zip(q, u):
         qp = pinocchio_configuration(system, qk)
-        M = pin.crba(model, data, qp)
+        M = pin.crba(model, model.createData(), qp)  # Pinocchio 4.1's crba with mimic joints keeps stale
+        # entries of a reused data.M
         g = pin.computeGeneralizedGravity(model, data, qp)
         record("M", f.M(qk), np.triu(M) + np.triu(M, 1).T)
         record("g", f.g(qk), g)
