@@ -12,7 +12,6 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..methods.kane import KaneEquations
-from ..model import FreeFlyer
 from .contacts import contact_dynamics, row_names, support_projector
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
@@ -236,11 +235,12 @@ class NumericEoM:
         return actuated(self.tau(q, u, params) - self.nle(q, u, params), tau_a, self.S)
 
     def euler_singularity(self, q, tol: float = 1e-3, params=None) -> float | None:
-        """For a ZYX Euler base: warn when the pitch is within `tol` of ±90° (where the angle rates are
-        undefined and M is singular) and return cond(M); None when the state is regular."""
+        """For ZYX Euler angles (an Euler base, a ZYX ball joint): warn when a pitch is within `tol` of
+        ±90° (where the angle rates are undefined and M is singular) and return cond(M); None when the
+        state is regular."""
         for b in self.eom.system.bodies:
-            if isinstance(b.joint, FreeFlyer) and b.joint.parametrization == "euler":
-                pitch = float(np.asarray(q, float)[b.q_index + 4])
+            if b.joint.pitch_index is not None:
+                pitch = float(np.asarray(q, float)[b.q_index + b.joint.pitch_index])
                 if abs(np.cos(pitch)) < tol:
                     cond = float(np.linalg.cond(self.M(q, params)))
                     warnings.warn(f"joint '{b.joint.name}': pitch {pitch:.6f} rad is {abs(np.cos(pitch)):.1e} "

@@ -191,7 +191,8 @@ def _reaction_label(body, column: sp.Matrix, k: int) -> tuple[str, tuple]:
     kind = "W" if any(x != 0 for x in force) and any(x != 0 for x in torque) else \
         "F" if any(x != 0 for x in force) else "T"
     part = torque if kind == "T" else force
-    name = "xyz"[part.index(1)] if kind != "W" and sorted(part) == [0, 0, 1] else f"{k + 1}"
+    axes = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    name = "xyz"[axes.index(part)] if kind != "W" and part in axes else f"{k + 1}"
     return f"{kind}_{body.name}_{name}", (kind, body.name, name)
 
 
@@ -200,7 +201,7 @@ def _efforts(kin: Kinematics, body, F: sp.Matrix, T: sp.Matrix) -> tuple[sp.Matr
     (Sᵀ of it gives back τ)."""
     joint, sub = body.joint, kin.sub
     S = sp.Matrix.hstack(*[v.col_join(w) for v, w in joint.subspace()])
-    G = S.T * S
+    G = (S.T * S).applyfunc(lambda x: sp.trigsimp(sp.expand(x)))  # cos² + sin² = 1 of a turned axis
     if G.free_symbols & set(kin.q):
         raise ModelError(f"joint '{joint.name}': its speeds are not orthogonal at every q (angle rates); the "
                          "cut-free balances are written for joints whose motion subspace keeps its shape")

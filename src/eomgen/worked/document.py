@@ -13,7 +13,7 @@ from pathlib import Path
 import sympy as sp
 
 from ..errors import ModelError
-from ..model import FreeFlyer, Prismatic, Revolute
+from ..model import Cylindrical, FreeFlyer, Helical, Prismatic, Revolute, Spherical, Universal
 from ..model.loads import Actuator, Damper, Force, Spring, Torque
 from ..model.system import System
 from ..printing import escape, latex, text
@@ -284,9 +284,17 @@ def _prose(s: str, kind: str) -> str:
 
 def _joint(joint) -> str:
     kind = type(joint).__name__
-    if isinstance(joint, (Revolute, Prismatic)):
+    if isinstance(joint, (Revolute, Prismatic)) and joint.mimic is not None:
+        m = joint.mimic
+        return (f"{kind}, axis ${latex(joint.axis.T)}$, follows {escape(m.driver_name)}: "
+                f"${latex(m.multiplier * m.driver.q + m.offset)}$")
+    if isinstance(joint, (Revolute, Prismatic, Cylindrical)):
         return f"{kind}, axis ${latex(joint.axis.T)}$"
-    if isinstance(joint, FreeFlyer):
+    if isinstance(joint, Helical):
+        return f"{kind}, axis ${latex(joint.axis.T)}$, pitch ${latex(joint.pitch)}$"
+    if isinstance(joint, Universal):
+        return f"{kind}, axes ${latex(joint.axis1.T)}$, ${latex(joint.axis2.T)}$"
+    if isinstance(joint, (FreeFlyer, Spherical)):
         return f"{kind} ({joint.parametrization})"
     return kind
 

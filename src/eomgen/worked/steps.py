@@ -151,7 +151,7 @@ def lagrange(forms: Forms) -> list[Step]:
             method,
         )
     ]
-    if not any(isinstance(j, FreeFlyer) for j in eom.system.joints):  # q̇ = u: plain derivatives
+    if list(eom.system.qdot) == list(eom.system.u):  # q̇ = u: plain derivatives
         derivatives = (
             _energy_derivatives(forms, T_form, U_form)
             if forms.form != "shared"
