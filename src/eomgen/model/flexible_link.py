@@ -1,4 +1,5 @@
 """A flexible link: an Euler-Bernoulli beam on a revolute joint, in finite elements (Lagrange II)."""
+
 from __future__ import annotations
 
 import sympy as sp
@@ -15,7 +16,9 @@ class FlexibleLink(Joint):
     deflection and slope of nodes 2 … n+1 (node 1 is clamped to the joint). Children attach to the
     tip frame: translated by (L, w_tip) and turned by the tip slope. Lagrange II only."""
 
-    def __init__(self, name, length, mass_per_length, EI, elements: int = 1, *, actuated: bool = True) -> None:
+    def __init__(
+        self, name, length, mass_per_length, EI, elements: int = 1, *, actuated: bool = True
+    ) -> None:
         super().__init__(name, axis=(0, 0, 1), actuated=actuated)
         if not isinstance(elements, int) or isinstance(elements, bool) or elements < 1:
             raise ModelError(f"joint '{self.name}': elements must be a positive integer, got {elements!r}")
@@ -26,13 +29,19 @@ class FlexibleLink(Joint):
                 raise ModelError(f"joint '{self.name}': {label} must be positive, got {values[label]}")
         self.length, self.mass_per_length, self.EI = values.values()
         self.elements = elements
-        self.nodal = [Generated(f"{kind}{k}_{self.name}", (self.name, kind, k))
-                      for k in range(2, elements + 2)
-                      for kind in ("w", "s")]
+        self.nodal = [
+            Generated(f"{kind}{k}_{self.name}", (self.name, kind, k))
+            for k in range(2, elements + 2)
+            for kind in ("w", "s")
+        ]
 
     def constants(self) -> dict[str, sp.Expr]:
-        return {**super().constants(), "length": self.length, "mass_per_length": self.mass_per_length,
-                "EI": self.EI}
+        return {
+            **super().constants(),
+            "length": self.length,
+            "mass_per_length": self.mass_per_length,
+            "EI": self.EI,
+        }
 
     @property
     def coordinates(self):

@@ -1,4 +1,5 @@
 """A free-flying joint: six degrees of freedom, for the base of a floating robot."""
+
 from __future__ import annotations
 
 import sympy as sp
@@ -6,11 +7,11 @@ import sympy as sp
 from ..errors import ModelError
 from ..linalg import cross
 from ..symbols import Generated
-from .joints import Joint, components, speed_symbol, zero
+from .joints import Several, zero
 from .rotations import E, quaternion_rate, quaternion_rotation, zyx_axes, zyx_body_axes, zyx_rotation
 
 
-class FreeFlyer(Joint):
+class FreeFlyer(Several):
     """A free-flying joint (the root body of a floating robot).
 
     parametrization "quaternion" (Pinocchio's layout): q = [x, y, z, qx, qy, qz, qw] (scalar last),
@@ -18,32 +19,23 @@ class FreeFlyer(Joint):
     ½ q ⊗ (ω, 0). parametrization "euler": q = [x, y, z, ψ, θ, φ] (ZYX: R = Rz(ψ) Ry(θ) Rx(φ)) and
     u = q̇; singular at pitch θ = ±90°, where ω no longer determines the angle rates."""
 
-    pitch_index = None
-
     def __init__(self, name: str = "root_joint", parametrization: str = "quaternion") -> None:
-        if not isinstance(name, str) or not name.strip():
-            raise ModelError(f"joint name must be a non-empty string, got {name!r}")
         if parametrization not in ("quaternion", "euler"):
-            raise ModelError(f"joint '{name}': parametrization must be 'quaternion' or 'euler', "
-                             f"got {parametrization!r}")
-        self.name, self.q, self.axis, self.actuated, self.armature = name, None, None, False, sp.Integer(0)
+            raise ModelError(
+                f"joint '{name}': parametrization must be 'quaternion' or 'euler', got {parametrization!r}"
+            )
         self.parametrization = parametrization
         if parametrization == "quaternion":
-            self._q = components(name, ("x", "y", "z", "qx", "qy", "qz", "qw"))
-            self._u = components(name, ("vx", "vy", "vz", "wx", "wy", "wz"))
+            super().__init__(
+                name,
+                ("x", "y", "z", "qx", "qy", "qz", "qw"),
+                ("vx", "vy", "vz", "wx", "wy", "wz"),
+                actuated=False,
+            )
             self.group = "SE3"
         else:
-            self._q = components(name, ("x", "y", "z", "yaw", "pitch", "roll"))
-            self._u = [speed_symbol(x) for x in self._q]
+            super().__init__(name, ("x", "y", "z", "yaw", "pitch", "roll"), actuated=False)
             self.pitch_index = 4
-
-    @property
-    def coordinates(self):
-        return list(self._q)
-
-    @property
-    def speeds(self):
-        return list(self._u)
 
     @property
     def accelerations(self):
@@ -78,7 +70,7 @@ class FreeFlyer(Joint):
         """Kirchhoff's terms of a body twist: (ω × p_v, ω × p_ω + v × p_v); none for Euler rates."""
         if self.parametrization == "euler":
             return None
-        v, w, p_v, p_w = (sp.Matrix(x[a:a + 3]) for x, a in ((u, 0), (u, 3), (p, 0), (p, 3)))
+        v, w, p_v, p_w = (sp.Matrix(x[a : a + 3]) for x, a in ((u, 0), (u, 3), (p, 0), (p, 3)))
         return list(cross(w, p_v).col_join(cross(w, p_w) + cross(v, p_v)))
 
     def qdot(self) -> list[sp.Expr]:

@@ -10,6 +10,7 @@ the joint frame). The relative motion of the child when u̇ = 0 is its bias,
 where ẋ = Σ_j ∂x/∂q_j q̇_j(q, u) is the rate of a column's components. Every method derives its
 equations from R_q, t_q, S and the bias; a new joint type defines those, its coordinates, speeds and
 q̇(q, u), and (for the free cut) the wrenches it transmits without work."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -80,8 +81,9 @@ def joint_name(name, symbol_allowed: bool = True) -> tuple[str, sp.Symbol | None
         return name.name, name
     if isinstance(name, str) and name.strip():
         return name, sp.Symbol(name)
-    raise ModelError(f"joint name must be a non-empty string{' or a sympy Symbol' * symbol_allowed}, "
-                     f"got {name!r}")
+    raise ModelError(
+        f"joint name must be a non-empty string{' or a sympy Symbol' * symbol_allowed}, got {name!r}"
+    )
 
 
 def components(name: str, labels) -> list[Generated]:
@@ -163,7 +165,8 @@ class Joint:
 
     @property
     def accelerations(self) -> list[sp.Symbol]:
-        """Symbols of the joint's part of u̇: q̈ where u = q̇ ('phi' → 'phiddot'), else u̇ ('wx' → 'wxdot')."""
+        """Symbols of the joint's part of u̇: q̈ where u = q̇ ('phi' → 'phiddot'), else u̇ ('wx' →
+        'wxdot')."""
         if self.speeds == [speed_symbol(q) for q in self.coordinates]:
             return [speed_symbol(q, "ddot") for q in self.coordinates]
         return [Generated(f"{s.name}dot", ("dot", s)) for s in self.speeds]
@@ -203,8 +206,38 @@ def complement(vectors: list[sp.Matrix]) -> sp.Matrix:
 
 def wrench_basis(forces: sp.Matrix, torques: sp.Matrix) -> sp.Matrix:
     """6 × k: the force directions (torque 0) beside the torque directions (force 0)."""
-    return sp.diag(forces, torques) if forces.cols and torques.cols else (
-        forces.col_join(sp.zeros(3, forces.cols)) if forces.cols else sp.zeros(3, torques.cols).col_join(torques))
+    return (
+        sp.diag(forces, torques)
+        if forces.cols and torques.cols
+        else (
+            forces.col_join(sp.zeros(3, forces.cols))
+            if forces.cols
+            else sp.zeros(3, torques.cols).col_join(torques)
+        )
+    )
+
+
+class Several(Joint):
+    """A joint with several coordinates, labelled `<name>_<label>`; its speeds are labelled likewise when
+    they are a twist in its own axes (`speeds`), else they are the coordinates' rates."""
+
+    def __init__(self, name: str, coordinates, speeds=None, *, actuated: bool = True, armature=0) -> None:
+        self.name, _ = joint_name(name, symbol_allowed=False)
+        self.q, self.axis, self.actuated = None, None, actuated
+        self.armature = nonnegative(armature, f"joint '{self.name}': armature")
+        self._q = components(self.name, coordinates)
+        self._u = [speed_symbol(x) for x in self._q] if speeds is None else components(self.name, speeds)
+
+    @property
+    def coordinates(self):
+        return list(self._q)
+
+    @property
+    def speeds(self):
+        return list(self._u)
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.name!r})"
 
 
 class Mimic:
@@ -214,11 +247,14 @@ class Mimic:
 
     def __init__(self, joint: Joint, mimic) -> None:
         if not (isinstance(mimic, tuple) and len(mimic) == 3):
-            raise ModelError(f"joint '{joint.name}': mimic must be (joint name, multiplier, offset), "
-                             f"got {mimic!r}")
+            raise ModelError(
+                f"joint '{joint.name}': mimic must be (joint name, multiplier, offset), got {mimic!r}"
+            )
         other, k, o = mimic
         if not isinstance(other, str) or not other:
-            raise ModelError(f"joint '{joint.name}': mimic needs the name of the joint it follows, got {other!r}")
+            raise ModelError(
+                f"joint '{joint.name}': mimic needs the name of the joint it follows, got {other!r}"
+            )
         if other == joint.name:
             raise ModelError(f"joint '{joint.name}' cannot mimic itself")
         self.driver_name = other
@@ -257,18 +293,26 @@ class OneAxis(Joint):
         return sp.Integer(1) if self.mimic is None else self.mimic.multiplier
 
     def constants(self) -> dict[str, sp.Expr]:
-        extra = {} if self.mimic is None else {"mimic multiplier": self.mimic.multiplier,
-                                               "mimic offset": self.mimic.offset}
+        extra = (
+            {}
+            if self.mimic is None
+            else {"mimic multiplier": self.mimic.multiplier, "mimic offset": self.mimic.offset}
+        )
         return {**super().constants(), **extra}
 
     def reaction_basis(self) -> sp.Matrix:
         v, w = self.subspace()[0]
-        return wrench_basis(complement([v / self.scale()] if v != zero() else []),
-                            complement([w / self.scale()] if w != zero() else []))
+        return wrench_basis(
+            complement([v / self.scale()] if v != zero() else []),
+            complement([w / self.scale()] if w != zero() else []),
+        )
 
     def __repr__(self) -> str:
-        mimic = "" if self.mimic is None else \
-            f", mimic=({self.mimic.driver_name!r}, {self.mimic.multiplier}, {self.mimic.offset})"
+        mimic = (
+            ""
+            if self.mimic is None
+            else f", mimic=({self.mimic.driver_name!r}, {self.mimic.multiplier}, {self.mimic.offset})"
+        )
         return f"{type(self).__name__}({self.name!r}, axis={tuple(self.axis)}{mimic})"
 
 
@@ -296,7 +340,13 @@ class Fixed(Joint):
     """No motion: the body is welded to its parent."""
 
     def __init__(self, name: str = "fixed") -> None:
-        self.name, self.q, self.axis, self.actuated, self.armature = str(name), None, None, False, sp.Integer(0)
+        self.name, self.q, self.axis, self.actuated, self.armature = (
+            str(name),
+            None,
+            None,
+            False,
+            sp.Integer(0),
+        )
 
     def motion(self):
         return sp.eye(3), zero()

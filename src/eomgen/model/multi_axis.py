@@ -1,53 +1,37 @@
 """Joints of several axes: universal, planar, cylindrical, translation, and the helical joint."""
+
 from __future__ import annotations
 
 import sympy as sp
 
 from ..errors import ModelError
-from .joints import (Joint, complement, components, joint_name, nonnegative, rotation_about, scalar,
-                     unit_axis, wrench_basis, zero)
+from .joints import Joint, Several, complement, rotation_about, scalar, unit_axis, wrench_basis, zero
 from .values import is_numeric
 
 E = sp.eye(3)
 
 
-class _Several(Joint):
-    """A joint with several coordinates, named `<name>_<label>`, u = q̇ unless it says otherwise."""
-
-    labels: tuple[str, ...] = ()
-
-    def __init__(self, name: str, *, actuated: bool = True, armature=0) -> None:
-        name, _ = joint_name(name, symbol_allowed=False)
-        self.name, self.q, self.axis, self.actuated = name, None, None, actuated
-        self.armature = nonnegative(armature, f"joint '{name}': armature")
-        self._q = components(name, self.labels)
-
-    @property
-    def coordinates(self):
-        return list(self._q)
-
-    def __repr__(self) -> str:
-        return f"{type(self).__name__}({self.name!r})"
-
-
-class Universal(_Several):
+class Universal(Several):
     """Two rotations, q₁ about `axis1` (joint axes), then q₂ about `axis2` (axes turned by q₁):
     R = R(a₁, q₁) R(a₂, q₂), as Pinocchio's JointModelUniversal. The axes must not be parallel."""
 
-    labels = ("1", "2")
-
     def __init__(self, name: str, axis1=(1, 0, 0), axis2=(0, 1, 0), *, actuated: bool = True, armature=0):
-        super().__init__(name, actuated=actuated, armature=armature)
+        super().__init__(name, ("1", "2"), actuated=actuated, armature=armature)
         self.axis1, self.axis2 = unit_axis(axis1, self.name, "axis1"), unit_axis(axis2, self.name, "axis2")
         normal = self.axis1.cross(self.axis2)
         self.sine = sp.sqrt(sum(x**2 for x in normal))  # |a₁ × a₂|, constant: the angle between the axes
         if is_numeric(normal) and float(self.sine) < 1e-9:
-            raise ModelError(f"joint '{self.name}': axis1 {tuple(self.axis1)} and axis2 {tuple(self.axis2)} are "
-                             "parallel; a universal joint needs two distinct axes (use a Revolute)")
+            raise ModelError(
+                f"joint '{self.name}': axis1 {tuple(self.axis1)} and axis2 {tuple(self.axis2)} are "
+                "parallel; a universal joint needs two distinct axes (use a Revolute)"
+            )
 
     def constants(self):
-        return {**{f"axis1[{k}]": x for k, x in enumerate(self.axis1)},
-                **{f"axis2[{k}]": x for k, x in enumerate(self.axis2)}, "armature": self.armature}
+        return {
+            **{f"axis1[{k}]": x for k, x in enumerate(self.axis1)},
+            **{f"axis2[{k}]": x for k, x in enumerate(self.axis2)},
+            "armature": self.armature,
+        }
 
     def motion(self):
         q1, q2 = self._q
@@ -69,21 +53,17 @@ class Universal(_Several):
         return f"Universal({self.name!r}, axis1={tuple(self.axis1)}, axis2={tuple(self.axis2)})"
 
 
-class Planar(_Several):
+class Planar(Several):
     """Motion in the joint frame's xy plane: q = (x, y, θ), R = Rz(θ), and u = (v_x, v_y, ω_z), the
     child's twist in child axes (Pinocchio's JointModelPlanar, which stores cos θ, sin θ for θ):
     ẋ = cos θ v_x − sin θ v_y, ẏ = sin θ v_x + cos θ v_y, θ̇ = ω_z. Integrated on SE(2)."""
 
-    labels = ("x", "y", "theta")
     group = "SE2"
 
     def __init__(self, name: str, *, actuated: bool = True, armature=0) -> None:
-        super().__init__(name, actuated=actuated, armature=armature)
-        self._u = components(self.name, ("vx", "vy", "wz"))
-
-    @property
-    def speeds(self):
-        return list(self._u)
+        super().__init__(
+            name, ("x", "y", "theta"), ("vx", "vy", "wz"), actuated=actuated, armature=armature
+        )
 
     def motion(self):
         x, y, theta = self._q
@@ -106,14 +86,12 @@ class Planar(_Several):
         return wrench_basis(E[:, 2], E[:, :2])
 
 
-class Cylindrical(_Several):
+class Cylindrical(Several):
     """Translation d along `axis` and rotation θ about it: q = (d, θ), R = R(a, θ), t = d a
     (Pinocchio: a composite of PrismaticUnaligned and RevoluteUnaligned)."""
 
-    labels = ("d", "theta")
-
     def __init__(self, name: str, axis=(0, 0, 1), *, actuated: bool = True, armature=0) -> None:
-        super().__init__(name, actuated=actuated, armature=armature)
+        super().__init__(name, ("d", "theta"), actuated=actuated, armature=armature)
         self.axis = unit_axis(axis, self.name)
 
     def motion(self):
@@ -133,10 +111,11 @@ class Cylindrical(_Several):
         return f"Cylindrical({self.name!r}, axis={tuple(self.axis)})"
 
 
-class Translation(_Several):
+class Translation(Several):
     """Three translations along the joint axes: q = (x, y, z), t = q (JointModelTranslation)."""
 
-    labels = ("x", "y", "z")
+    def __init__(self, name: str, *, actuated: bool = True, armature=0) -> None:
+        super().__init__(name, ("x", "y", "z"), actuated=actuated, armature=armature)
 
     def motion(self):
         return sp.eye(3), sp.Matrix(self._q)

@@ -1,5 +1,6 @@
 """Rotations of the joints with several angles: unit quaternions (Pinocchio's and Eigen's layout,
 (x, y, z, w), scalar last) and ZYX Euler angles R = Rz(ψ) Ry(θ) Rx(φ)."""
+
 from __future__ import annotations
 
 import sympy as sp
@@ -11,17 +12,25 @@ E = sp.eye(3)
 
 def quaternion_rotation(x, y, z, w) -> sp.Matrix:
     """R(q) of a unit quaternion as Eigen computes it."""
-    return sp.Matrix([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                      [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    return sp.Matrix(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def quaternion_rate(x, y, z, w, omega) -> list[sp.Expr]:
     """(ẋ, ẏ, ż, ẇ) = ½ q ⊗ (ω, 0), ω in the rotated (body) axes."""
     wx, wy, wz = omega
     half = sp.Rational(1, 2)
-    return [half * (w * wx - z * wy + y * wz), half * (z * wx + w * wy - x * wz),
-            half * (-y * wx + x * wy + w * wz), half * (-x * wx - y * wy - z * wz)]
+    return [
+        half * (w * wx - z * wy + y * wz),
+        half * (z * wx + w * wy - x * wz),
+        half * (-y * wx + x * wy + w * wz),
+        half * (-x * wx - y * wy - z * wz),
+    ]
 
 
 def zyx_rotation(yaw, pitch, roll) -> sp.Matrix:

@@ -1,14 +1,15 @@
 """The spherical (ball) joint: three rotations about the joint origin."""
+
 from __future__ import annotations
 
 import sympy as sp
 
 from ..errors import ModelError
-from .joints import Joint, components, speed_symbol, wrench_basis, zero
+from .joints import Several, wrench_basis, zero
 from .rotations import E, quaternion_rate, quaternion_rotation, zyx_axes, zyx_body_axes, zyx_rotation
 
 
-class Spherical(Joint):
+class Spherical(Several):
     """A ball joint.
 
     parametrization "quaternion" (Pinocchio's JointModelSpherical): q = (qx, qy, qz, qw), a unit
@@ -16,43 +17,44 @@ class Spherical(Joint):
     SO(3). parametrization "zyx" (JointModelSphericalZYX): q = (ψ, θ, φ), R = Rz(ψ) Ry(θ) Rx(φ), u = q̇;
     singular at θ = ±90°."""
 
-    def __init__(self, name: str, parametrization: str = "quaternion", *, actuated: bool = True,
-                 armature=0) -> None:
-        if not isinstance(name, str) or not name.strip():
-            raise ModelError(f"joint name must be a non-empty string, got {name!r}")
+    def __init__(
+        self, name: str, parametrization: str = "quaternion", *, actuated: bool = True, armature=0
+    ) -> None:
         if parametrization not in ("quaternion", "zyx"):
-            raise ModelError(f"joint '{name}': parametrization must be 'quaternion' or 'zyx', "
-                             f"got {parametrization!r}")
-        super().__init__(name, actuated=actuated, armature=armature)
-        self.q, self.axis, self.parametrization = None, None, parametrization
+            raise ModelError(
+                f"joint '{name}': parametrization must be 'quaternion' or 'zyx', got {parametrization!r}"
+            )
+        self.parametrization = parametrization
         if parametrization == "quaternion":
-            self._q = components(name, ("qx", "qy", "qz", "qw"))
-            self._u = components(name, ("wx", "wy", "wz"))
+            super().__init__(
+                name, ("qx", "qy", "qz", "qw"), ("wx", "wy", "wz"), actuated=actuated, armature=armature
+            )
             self.group = "SO3"
         else:
-            self._q = components(name, ("yaw", "pitch", "roll"))
-            self._u = [speed_symbol(x) for x in self._q]
+            super().__init__(name, ("yaw", "pitch", "roll"), actuated=actuated, armature=armature)
             self.pitch_index = 1
 
-    @property
-    def coordinates(self):
-        return list(self._q)
-
-    @property
-    def speeds(self):
-        return list(self._u)
-
     def motion(self):
-        R = quaternion_rotation(*self._q) if self.parametrization == "quaternion" else zyx_rotation(*self._q)
+        R = (
+            quaternion_rotation(*self._q)
+            if self.parametrization == "quaternion"
+            else zyx_rotation(*self._q)
+        )
         return R, zero()
 
     def subspace(self):
         """Quaternion: S = (0, I). ZYX: the angle rates' axes in child axes."""
-        axes = [E[:, k] for k in range(3)] if self.parametrization == "quaternion" else zyx_body_axes(*self._q[1:])
+        axes = (
+            [E[:, k] for k in range(3)]
+            if self.parametrization == "quaternion"
+            else zyx_body_axes(*self._q[1:])
+        )
         return [(zero(), w) for w in axes]
 
     def joint_frame_subspace(self):
-        return None if self.parametrization == "quaternion" else [(zero(), w) for w in zyx_axes(*self._q[:2])]
+        return (
+            None if self.parametrization == "quaternion" else [(zero(), w) for w in zyx_axes(*self._q[:2])]
+        )
 
     def qdot(self):
         return self.speeds if self.parametrization == "zyx" else quaternion_rate(*self._q, self._u)
