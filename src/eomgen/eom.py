@@ -144,6 +144,9 @@ class EquationsOfMotion(ClosedForms):
     def coriolis_matrix(self) -> sp.Matrix:
         """C with C u = b, from the Christoffel symbols of M:
         C_ij = Σ_k ½ (∂M_ij/∂q_k + ∂M_ik/∂q_j − ∂M_jk/∂q_i) u_k (closed form; small systems)."""
+        if list(self.system.qdot) != list(self.u):
+            raise ModelError("coriolis_matrix: the Christoffel symbols need u = q̇; this system has speeds "
+                             "that are not coordinate rates (a quaternion or planar joint's twist)")
         M, q, u = self.M, self.q, self.u
         n = len(q)
         dM = [M.diff(qk) for qk in q]

@@ -1,9 +1,9 @@
 """How each body moves: rotation R, origin p, joint axes, Jacobians J_P, J_R and the bias terms J̇ u.
 
 Computed once per system and shared by every method. Every quantity is kept as named intermediates
-(see `Subexpressions`). Time derivatives use the chain rule with q̇ = u for the joints: the general
-`time_derivative` (d/dt f(q) = Σ_k ∂f/∂q_k u_k, through the intermediates) and, for J̇ u, the same
-rule applied along the tree (ė = Ω × e for a vector fixed in a body), which costs O(n) instead of
+(see `Subexpressions`). Time derivatives use the chain rule with q̇ = q̇(q, u) of the joints (u but for
+a body twist's speeds): the general `time_derivative` (d/dt f(q) = Σ_k ∂f/∂q_k q̇_k, through the
+intermediates) and, for J̇ u, the same rule applied along the tree (ė = Ω × e for a vector fixed in a body), which costs O(n) instead of
 O(n²) per body; a test checks the two against each other."""
 from __future__ import annotations
 

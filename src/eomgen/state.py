@@ -5,13 +5,13 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ModelError
-from .model import Cylindrical, Planar, Prismatic, System, Translation
+from .model import Cylindrical, FlexibleLink, Planar, Prismatic, System, Translation
 
 
 def random_states(system: System, n: int, rng) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """n states (q, u, u̇): angles in [−π, π] (ZYX pitch within ±0.45 π), lengths in [−0.5, 0.5] (a free
-    flyer's and a planar joint's position in [−1, 1]), uniformly random unit quaternions, u and u̇ in
-    [−2, 2]."""
+    flyer's and a planar joint's position in [−1, 1], a flexible link's nodes in [−0.05, 0.05]),
+    uniformly random unit quaternions, u and u̇ in [−2, 2]."""
     if not isinstance(n, int) or isinstance(n, bool) or n < 0:
         raise ModelError(f"random_states: n must be a non-negative integer, got {n!r}")
     parts = []
@@ -21,15 +21,16 @@ def random_states(system: System, n: int, rng) -> tuple[np.ndarray, np.ndarray, 
                 quat = rng.normal(size=(n, 4))
                 parts.append(quat / np.linalg.norm(quat, axis=1, keepdims=True))
             else:
-                scale = {"angle": np.pi, "pitch": 0.45 * np.pi, "length": 0.5, "position": 1.0}[label]
+                scale = {"angle": np.pi, "pitch": 0.45 * np.pi, "length": 0.5, "position": 1.0,
+                         "deflection": 0.05}[label]
                 parts.append(rng.uniform(-1, 1, (n, 1)) * scale)
     q = np.concatenate(parts, axis=1) if parts else np.zeros((n, 0))
     return q, rng.uniform(-2, 2, (n, system.nv)), rng.uniform(-2, 2, (n, system.nv))
 
 
 def _kinds(joint) -> list[str]:
-    """What each coordinate of a joint is: "angle", "pitch", "length", "position" or (4 of them)
-    "quaternion"."""
+    """What each coordinate of a joint is: "angle", "pitch", "length", "position", "deflection" (a
+    flexible link's node, and its slope) or (4 of them) "quaternion"."""
     if joint.group in ("SO3", "SE3"):
         return ["position"] * 3 * (joint.group == "SE3") + ["quaternion"]
     if joint.pitch_index is not None:  # ZYX angles, after the free flyer's position
@@ -40,7 +41,9 @@ def _kinds(joint) -> list[str]:
         return ["length"] * len(joint.coordinates)
     if isinstance(joint, Cylindrical):
         return ["length", "angle"]
-    return ["angle"] * len(joint.coordinates)  # revolute, helical, universal, flexible link's angle
+    if isinstance(joint, FlexibleLink):
+        return ["angle"] + ["deflection"] * (len(joint.coordinates) - 1)
+    return ["angle"] * len(joint.coordinates)  # revolute, helical, universal
 
 
 def _skew(w: np.ndarray) -> np.ndarray:
@@ -60,8 +63,10 @@ def _exp_so3(w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     W = _skew(w)
     if theta < 1e-8:
         return np.eye(3) + W / 2, np.r_[w / 2, 1.0]
-    V = np.eye(3) + (1 - np.cos(theta)) / theta**2 * W + (theta - np.sin(theta)) / theta**3 * W @ W
-    return V, np.r_[np.sin(theta / 2) * w / theta, np.cos(theta / 2)]
+    a = 2 * np.sin(theta / 2) ** 2 / theta**2  # (1 − cos θ)/θ² without cancellation
+    t2 = theta**2  # (θ − sin θ)/θ³ by its series where the difference cancels
+    c = (1 / 6 - t2 / 120 + t2**2 / 5040) if theta < 1e-2 else (theta - np.sin(theta)) / theta**3
+    return np.eye(3) + a * W + c * W @ W, np.r_[np.sin(theta / 2) * w / theta, np.cos(theta / 2)]
 
 
 def _turn(quat: np.ndarray, half: np.ndarray) -> np.ndarray:

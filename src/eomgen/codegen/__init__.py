@@ -258,7 +258,7 @@ class NumericEoM:
 
     # --- DC motors (one state at a time) --------------------------------------------------------
     def motor_rhs(self, t, x, params=None) -> np.ndarray:
-        """d/dt [q, u, i] for a system with DC motors (q̇ = u for joints): M u̇ = τ − b − g with the
+        """d/dt [q, u, i] for a system with DC motors (q̇ from u, `System.qdot`): M u̇ = τ − b − g with the
         motor torques N k i − N² f q̇, and L di/dt = U − R i − k N q̇ for each motor. The currents i are
         taken from x (params, or a bind, leaves them out); voltages may depend on q and u."""
         motors = self.eom.system.motors
@@ -274,7 +274,9 @@ class NumericEoM:
              m.inductance] for m in motors]))
         circuit = self.call("motor", q, u, params=params)  # per motor: U − k N q̇, R, L
         di = (circuit[:, 0] - circuit[:, 1] * i) / circuit[:, 2]
-        return np.concatenate([u, self.forward_dynamics(q, u, params=params), di])
+        self._function("qdot", lambda: self.eom.system.qdot)
+        qdot = self.call("qdot", q, u, params=params).ravel()
+        return np.concatenate([qdot, self.forward_dynamics(q, u, params=params), di])
 
     # --- contacts (one state at a time) --------------------------------------------------------
     def contact_jacobian(self, q, params=None) -> np.ndarray:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
 import sympy as sp
 
 from ..eom import EquationsOfMotion
@@ -201,15 +202,29 @@ def _efforts(kin: Kinematics, body, F: sp.Matrix, T: sp.Matrix) -> tuple[sp.Matr
     (Sᵀ of it gives back τ)."""
     joint, sub = body.joint, kin.sub
     S = sp.Matrix.hstack(*[v.col_join(w) for v, w in joint.subspace()])
-    G = (S.T * S).applyfunc(lambda x: sp.trigsimp(sp.expand(x)))  # cos² + sin² = 1 of a turned axis
-    if G.free_symbols & set(kin.q):
-        raise ModelError(f"joint '{joint.name}': its speeds are not orthogonal at every q (angle rates); the "
-                         "cut-free balances are written for joints whose motion subspace keeps its shape")
-    names = [joint.name] if joint.dof == 1 else [f"{joint.name}_{k + 1}" for k in range(joint.dof)]
+    G = _constant(S.T * S, joint.coordinates)
+    if G is None:
+        raise ModelError(f"joint '{joint.name}': the angles between its motion axes change with q (angle "
+                         "rates); the cut-free balances are written for joints whose motion axes keep them")
+    names = [joint.name] if joint.dof == 1 else [f"{joint.name}_{k}" for k in range(joint.dof)]
     tau = sp.Matrix([Generated(f"tau_{x}", ("tau", x)) for x in names])
     wrench = S * (G.inv() * tau)  # a constant Gram matrix of at most 6 × 6 numbers or parameters
     R = sub.inline(kin.R[body])  # S is in child axes
     return F + R * wrench[:3, 0], T + R * wrench[3:, 0]
+
+
+def _constant(G: sp.Matrix, q: list) -> sp.Matrix | None:
+    """G at q = 0 if it does not depend on q (checked at random q: cos² + sin² = 1 of a turned axis
+    stays unproven in floats), else None."""
+    G0 = G.xreplace({x: 0 for x in q})
+    if not G.free_symbols & set(q):
+        return G
+    rng = np.random.default_rng(0)
+    for _ in range(3):
+        at = G.xreplace({x: float(v) for x, v in zip(q, rng.uniform(-3, 3, len(q)))}) - G0
+        if any(abs(complex(e)) > 1e-12 for e in at if e.is_number) or not all(e.is_number for e in at):
+            return None
+    return G0
 
 
 def cut_equations(kin: Kinematics) -> CutEquations:

@@ -55,6 +55,11 @@ class FlexibleLink(Joint):
         w, s = self.nodal[-2:]
         return rotation_about(self.axis, s), sp.Matrix([self.length, w, 0])
 
+    @property
+    def efforts(self) -> int:
+        """Only the joint angle is driven; the beam's nodes move by its elasticity."""
+        return 1
+
     def subspace(self):
         """The joint angle turns the link frame; the nodal coordinates deform the beam only."""
         return [(zero(), self.axis)] + [(zero(), zero()) for _ in self.nodal]

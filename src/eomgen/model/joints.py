@@ -113,6 +113,11 @@ class Joint:
         """Number of the joint's own speeds."""
         return len(self.speeds)
 
+    @property
+    def efforts(self) -> int:
+        """How many of its speeds (the first ones) an actuator drives: all of them."""
+        return self.dof
+
     def motion(self) -> tuple[sp.Matrix, sp.Matrix]:
         """(R_q, t_q): the child frame in the joint frame as a function of q."""
         raise NotImplementedError

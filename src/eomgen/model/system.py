@@ -126,14 +126,15 @@ class System:
     @property
     def actuated(self) -> list[str]:
         """What each row of S drives: the joint's name, with [k] for its k-th speed if it has several."""
-        return [j.name if j.dof == 1 else f"{j.name}[{k}]" for j in self.joints if j.actuated for k in range(j.dof)]
+        return [j.name if j.efforts == 1 else f"{j.name}[{k}]" for j in self.joints if j.actuated
+                for k in range(j.efforts)]
 
     @property
     def S(self) -> sp.Matrix:
         """Selection matrix: one row per speed of an actuated joint, τ_gen = Sᵀ τ (a floating base is not
         actuated; a mimic joint's effort is its driver's)."""
         rows = [b.index + k for b in self.bodies if b.index is not None and b.joint.actuated
-                for k in range(b.joint.dof)]
+                for k in range(b.joint.efforts)]
         S = sp.zeros(len(rows), self.nv)
         for r, i in enumerate(rows):
             S[r, i] = 1
@@ -436,6 +437,10 @@ class System:
             raise ModelError(f"reduced: lock must be a dict {{joint name: value}}, got {type(lock).__name__}")
         names = {j.name for j in self.joints}
         unknown = sorted(set(lock) - names)
+        mimic = [b.joint.name for b in self.bodies if getattr(b.joint, "mimic", None) and b.joint.name in lock]
+        if mimic:
+            raise ModelError(f"reduced: {mimic} are mimic joints, without a coordinate of their own; lock "
+                             "their driving joint instead")
         if unknown:
             raise ModelError(f"reduced: unknown joints {unknown}; joints are {sorted(names)}")
         if self.loads or self.contacts or self.motors:

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..eom import EquationsOfMotion
+from ..errors import ModelError
 from ..kinematics import TIME
 from ..model import FreeFlyer
 from ..model.loads import Point
@@ -222,7 +223,10 @@ def free_cut(forms: Forms) -> list[Step]:
     numeric_axes = all(a.is_number for j in eom.system.joints if getattr(j, "axis", None) is not None
                        for a in j.axis)
     if forms.form != "shared" and numeric_axes:  # the cut-free balances: textbook form, numeric axes
-        steps.append(_cut(forms))
+        try:
+            steps.append(_cut(forms))
+        except ModelError as why:  # a mimic joint, or motion axes at changing angles
+            steps.append(Step("Cut-free balances", f"Not written out: {why}.", {}, method))
     results = forms.result()
     wrenches = eom.extras["reactions"]
     results.update({f"reaction[{joint}]": forms(W) for joint, W in wrenches.items()})
