@@ -181,17 +181,51 @@ def test_axis_of_a_fixed_joint_is_not_read(tmp_path):
     imports_and_verifies(path)
 
 
-def test_negative_mass_and_mimic_still_refused(tmp_path):
+MIMIC = TEMPLATE.replace("</robot>", f'<link name="finger"><inertial><mass value="0.5"/>{INERTIA}</inertial>'
+                         '</link><joint name="grip" type="revolute"><parent link="hand"/>'
+                         '<child link="finger"/><origin xyz="0 0.2 0"/><axis xyz="1 0 0"/>'
+                         '<limit lower="-1" upper="1" effort="1" velocity="1"/><mimic joint="elbow" '
+                         'multiplier="{multiplier}" offset="{offset}"/></joint></robot>')
+
+
+@pytest.mark.parametrize("field", ["multiplier", "offset"])
+@pytest.mark.parametrize("text, value", NUMBERS, ids=[repr(t) for t, _ in NUMBERS])
+def test_mimic_number(tmp_path, capfd, field, text, value):
+    """A mimic's multiplier and offset are read like the other numbers (urdfdom refuses the file)."""
+    path = write(tmp_path, template=MIMIC, **{"multiplier": "2", "offset": "0.1", field: text})
+    capfd.readouterr()
+    try:
+        mimic = pin.buildModelFromUrdf(str(path), mimic=True).joints[3].extract()
+    except ValueError:
+        mimic = None
+    if value is None:
+        assert mimic is None and "Error" in capfd.readouterr().err, "urdfdom reads this form"
+        text = text.replace("&#9;", "\t").replace("&#10;", "\n").replace("&#32;", " ").replace("\r\n", "\n")
+        with pytest.raises(ModelError) as info:
+            eg.from_urdf(path)
+        for part in (path.name, "joint 'grip'", f"mimic {field}={text!r}"):
+            assert part in str(info.value), (part, str(info.value))
+    elif field == "multiplier" and abs(value) < 1e-14:  # read as 0, like every URDF number that close
+        assert mimic.scaling == value
+        with pytest.raises(ModelError, match="'grip' mimics 'elbow' with multiplier .*: it does not move"):
+            eg.from_urdf(path)
+    else:
+        assert {"multiplier": mimic.scaling, "offset": mimic.offset}[field] == value
+        finger = eg.from_urdf(path).bodies[-1].joint
+        assert float(getattr(finger.mimic, field)) == pytest.approx(value, rel=0, abs=1e-14)
+
+
+def test_negative_mass_refused_mimic_followed_or_refused_on_request(tmp_path):
     with pytest.raises(ModelError, match="mass must be non-negative"):
         eg.from_urdf(write(tmp_path, mass="-1"))
-    path = write(tmp_path, template=TEMPLATE.replace("</robot>", '<link name="finger"/><joint '
-                 'name="grip" type="revolute"><parent link="arm"/><child link="finger"/><mimic '
-                 'joint="shoulder"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'))
-    with pytest.raises(ModelError, match="joint 'grip' mimics joint 'shoulder'"):
-        eg.from_urdf(path)
+    path = write(tmp_path, template=MIMIC, multiplier="-2", offset="0.1")
+    system = eg.from_urdf(path)
+    assert system.nv == 2 and verify(system, states=3).ok(1e-10)
+    with pytest.raises(ModelError, match="joint 'grip' mimics joint 'elbow'"):
+        eg.from_urdf(path, mimic="refuse")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        eg.from_urdf(path, mimic="independent")
+        assert eg.from_urdf(path, mimic="independent").nv == 3
     assert any("grip" in str(w.message) for w in caught)
 
 

@@ -108,11 +108,12 @@ def paths(name: str) -> tuple[Path, Path | None, bool]:
     return folder / urdf, (folder / srdf if srdf else None), floating
 
 
-def load(name: str, base: str = "quaternion") -> System:
+def load(name: str, base: str = "quaternion", mimic: str = "independent") -> System:
     """A robot of example-robot-data as a `System` (armature from its SRDF where it has rotor
     parameters, as example-robot-data's own loader sets it); a floating base in `base`
-    parametrization ("quaternion" or "euler"). Mimic joints (panda's second finger, say) are
-    independent joints, as in example-robot-data's own loader, with a warning naming them.
+    parametrization ("quaternion" or "euler"). Mimic joints (panda's second finger, pr2's and
+    tiago_pro's grippers, say) are independent joints, as in example-robot-data's own loader, with a
+    warning naming them; mimic="mimic" makes them follow their drivers (see `from_urdf`).
 
     A DH robot ("puma560", "stanford") is built from its table with `from_dh`; its published inertias
     that break the triangle inequality (see `dh_tables`) are taken as they are, without a warning."""
@@ -123,6 +124,6 @@ def load(name: str, base: str = "quaternion") -> System:
         system.name = name
         return system
     urdf, srdf, floating = paths(name)
-    system = from_urdf(urdf, floating_base=floating and base, srdf=srdf, mimic="independent")
+    system = from_urdf(urdf, floating_base=floating and base, srdf=srdf, mimic=mimic)
     system.name = name
     return system

@@ -2,10 +2,9 @@
 form and count urdfdom accepts.
 
 urdfdom (Pinocchio's URDF parser) ignores a link it cannot read: it reports an unreadable `<inertial>`
-on stderr and goes on with a massless link (or, when only the inertia is bad, with a zero inertia); a
-mimic joint becomes an independent joint. Both would be wrong equations without a word, so the file
-is read here first (Python's XML parser: no code is run) and refused with the file, link or joint,
-element, attribute and value named.
+on stderr and goes on with a massless link (or, when only the inertia is bad, with a zero inertia).
+That would be wrong equations without a word, so the file is read here first (Python's XML parser: no
+code is run) and refused with the file, link or joint, element, attribute and value named.
 
 The rule urdfdom 6 applies (found by experiment with Pinocchio's parser, and in urdfdom's source:
 `strToDouble`, `Vector3::init`, `parseInertial`), on the attribute text as tinyxml2 gives it (character
@@ -20,9 +19,14 @@ references decoded, literal tabs and newlines kept, CR LF read as LF):
 - `<inertial>` needs `<mass value>` (one number) and `<inertia>` with all of ixx, ixy, ixz, iyy, iyz,
   izz (one number each); its `<origin>` may omit xyz or rpy (zero). A link without `<inertial>` is a
   legitimate massless link.
-Joint `<origin>` and `<axis>` are held to the same rule (urdfdom would refuse the whole file, with a
-message naming neither the joint nor the value); `<axis>` is read for the moving joint types only, and
-one without `xyz` would be the zero axis. `<limit>`, `<dynamics>` and the rest do not enter M, b, g."""
+Joint `<origin>` and `<axis>` and the `<mimic>` multiplier and offset are held to the same rule
+(urdfdom would refuse the whole file, with a message naming neither the joint nor the value); `<axis>`
+is read for the moving joint types only, and one without `xyz` would be the zero axis. `<limit>`,
+`<dynamics>` and the rest do not enter M, b, g.
+
+Pinocchio's parser (with mimic=True) stops with a terse message at a mimic it cannot follow and ignores
+the `<mimic>` of a planar or floating joint; it ignores the axis of a planar joint. Those files are
+refused here with the joints named (`_check_mimics`, `_check_joint`)."""
 from __future__ import annotations
 
 import math
@@ -147,22 +151,113 @@ def _check_joint(joint: ET.Element, read: _Reader, owner: str) -> None:
     for origin in joint.findall("origin"):
         for name in ("xyz", "rpy"):
             read.numbers(origin, name, 3, owner, "origin")
-    if read.text(joint, "type") in _AXIS_READ:
-        for axis in joint.findall("axis"):
-            if read.text(axis, "xyz") is None:
+    kind = read.text(joint, "type")
+    axis = [1.0, 0.0, 0.0]  # urdfdom's default
+    if kind in _AXIS_READ:
+        for element in joint.findall("axis"):
+            if read.text(element, "xyz") is None:
                 raise ModelError(f"{owner}: <axis> has no xyz attribute (urdfdom reads it as the zero "
                                  "axis; leave out <axis> for the default 1 0 0)")
-            read.numbers(axis, "xyz", 3, owner, "axis")
+            axis = read.numbers(element, "xyz", 3, owner, "axis")
+    if kind == "planar" and not (axis[2] > 0 and math.hypot(*axis[:2]) <= 1e-14 * axis[2]):
+        raise ModelError(f"{owner}: a planar joint moves in the plane normal to its axis, here "
+                         f"{' '.join(map(repr, axis))} (1 0 0 without <axis>), but Pinocchio's parser "
+                         "always takes the joint frame's xy plane: give <axis xyz=\"0 0 1\"/> and turn the "
+                         "joint's <origin> so that its z axis is the plane's normal")
+    follows = joint.find("mimic")  # urdfdom reads the first, on every joint type
+    if follows is not None:
+        if read.text(follows, "joint") is None:
+            raise ModelError(f"{owner}: <mimic> has no joint attribute (urdfdom refuses the file)")
+        for name in ("multiplier", "offset"):
+            read.numbers(follows, name, None, owner, "mimic")
 
 
-MIMIC = ("refuse", "independent")
+MIMIC = ("mimic", "independent", "refuse")
+_FOLLOWED = ("revolute", "prismatic")  # the types Pinocchio's parser makes mimic joints of, and follows
 
 
-def check_urdf(path: Path, mimic: str = "refuse") -> None:
-    """Refuse any inertial number, origin or axis urdfdom would not read (or would drop), an
-    `<inertial>` without mass or inertia, a negative mass; mimic joints are refused, or with
-    mimic="independent" imported as independent joints (as Pinocchio's default model has them)
-    with a warning naming them."""
+def _parse_order(root: ET.Element, read: _Reader) -> dict[str, int]:
+    """Joint name → its place in the order Pinocchio's parser adds joints: depth first from the root
+    link, the child joints of a link by name (urdfdom keeps them in a std::map)."""
+    children: dict[str | None, list[tuple[str, str | None]]] = {}
+    for joint in root.findall("joint"):
+        parent, child = joint.find("parent"), joint.find("child")
+        if parent is not None and child is not None:
+            children.setdefault(read.text(parent, "link"), []).append((read.text(joint, "name") or "",
+                                                                      read.text(child, "link")))
+    child_links = {link for joints in children.values() for _, link in joints}
+    links = [read.text(link, "name") for link in root.findall("link")]
+    roots = [link for link in links if link not in child_links]
+
+    def below(link):  # reversed: the stack pops the first name first
+        return sorted(children.get(link, []), key=lambda joint: joint[0], reverse=True)
+
+    order: dict[str, int] = {}
+    stack, seen = below(roots[0]) if len(roots) == 1 else [], set(roots)
+    while stack:
+        name, link = stack.pop()
+        order.setdefault(name, len(order))
+        if link not in seen:  # a link below two joints (urdfdom refuses the file) is walked once
+            seen.add(link)
+            stack += below(link)
+    return order
+
+
+def _check_mimics(path: Path, root: ET.Element, read: _Reader, mimic: str) -> None:
+    """Refuse a mimic of an unknown joint, of itself, a loop of mimics; per `mimic` (see check_urdf),
+    the mimic joints, or (mode "mimic") what Pinocchio's parser and eomgen do not follow: a mimic of a
+    mimic, of a joint neither revolute nor prismatic, a mimic that is not revolute or prismatic, or one
+    met before its driver."""
+    types = {read.text(j, "name"): read.text(j, "type") for j in root.findall("joint")}
+    follows = {read.text(j, "name"): read.text(j.find("mimic"), "joint") for j in root.findall("joint")
+               if j.find("mimic") is not None and read.text(j, "type") != "fixed"}  # fixed: no motion
+    for name, driver in follows.items():
+        owner = f"URDF {path.name}: joint '{name}'"
+        if driver == name:
+            raise ModelError(f"{owner} mimics itself")
+        if driver not in types:
+            raise ModelError(f"{owner} mimics the unknown joint '{driver}'")
+        loop = [name]
+        while loop[-1] in follows and follows[loop[-1]] not in loop:
+            loop.append(follows[loop[-1]])
+        if loop[-1] in follows:
+            loop = loop[loop.index(follows[loop[-1]]):]
+            raise ModelError(f"URDF {path.name}: joints {loop} mimic each other in a loop: "
+                             f"{' → '.join(repr(j) for j in loop + loop[:1])}")
+    if follows and mimic == "refuse":
+        name, driver = next(iter(follows.items()))
+        raise ModelError(f"URDF {path.name}: joint '{name}' mimics joint '{driver}': from_urdf(..., "
+                         "mimic='mimic') follows it, mimic='independent' imports it as an independent joint")
+    if follows and mimic == "independent":
+        warnings.warn(f"URDF {path.name}: mimic joints {list(follows)} imported as independent joints "
+                      "(mimic='independent'), as in Pinocchio's default model", stacklevel=5)
+    if mimic != "mimic":
+        return
+    order = _parse_order(root, read)
+    for name, driver in follows.items():
+        owner = f"URDF {path.name}: joint '{name}'"
+        if types[name] not in _FOLLOWED:
+            raise ModelError(f"{owner}, a {types[name]} joint, mimics '{driver}': Pinocchio's parser makes "
+                             "mimic joints of revolute and prismatic joints only; use mimic='independent'")
+        if driver in follows:
+            raise ModelError(f"{owner} mimics '{driver}', which mimics '{follows[driver]}': a mimic of a "
+                             f"mimic is followed by neither Pinocchio nor eomgen; let '{name}' mimic "
+                             f"'{follows[driver]}' with the product of the multipliers")
+        if types[driver] not in _FOLLOWED:
+            raise ModelError(f"{owner} mimics '{driver}', a {types[driver]} joint: a mimic joint follows a "
+                             "revolute or prismatic joint")
+        if order.get(driver, -1) > order.get(name, -1):
+            raise ModelError(f"{owner} mimics '{driver}', which Pinocchio's parser adds after it (depth "
+                             "first from the root link, the joints of a link by name); rename or rearrange "
+                             f"the joints so that '{driver}' comes first, or use mimic='independent'")
+
+
+def check_urdf(path: Path, mimic: str = "mimic") -> None:
+    """Refuse any inertial number, origin, axis or mimic number urdfdom would not read (or would
+    drop), an `<inertial>` without mass or inertia, a negative mass, a planar joint whose plane is
+    not the joint frame's xy plane, and mimic joints that cannot be followed (`_check_mimics`);
+    mimic="independent" imports them as independent joints (as Pinocchio's default model has them)
+    with a warning naming them, mimic="refuse" refuses them. A fixed joint's `<mimic>` moves nothing."""
     if mimic not in MIMIC:
         raise ModelError(f"mimic must be one of {MIMIC}, got {mimic!r}")
     path = Path(path)
@@ -177,17 +272,6 @@ def check_urdf(path: Path, mimic: str = "refuse") -> None:
         if read.text(link, "name") is None:
             raise ModelError(f"URDF {path.name}: a <link> has no name attribute")
         _check_link(link, read, f"URDF {path.name}: link '{link.get('name')}'")
-    mimics = []
     for joint in root.findall("joint"):
-        owner = f"URDF {path.name}: joint '{joint.get('name')}'"
-        _check_joint(joint, read, owner)
-        follows = joint.find("mimic")
-        if follows is not None and mimic == "refuse":
-            raise ModelError(f"{owner} mimics joint '{follows.get('joint')}'; eomgen does not model mimic "
-                             "joints yet: from_urdf(..., mimic='independent') imports it as an independent "
-                             "joint")
-        if follows is not None:
-            mimics.append(joint.get("name"))
-    if mimics:
-        warnings.warn(f"URDF {path.name}: mimic joints {mimics} imported as independent joints "
-                      "(mimic='independent'), as in Pinocchio's default model", stacklevel=4)
+        _check_joint(joint, read, f"URDF {path.name}: joint '{joint.get('name')}'")
+    _check_mimics(path, root, read, mimic)
