@@ -231,7 +231,7 @@ def test_urdf_bad_numbers_refused(tmp_path, mass, izz, message):
 def test_urdf_mimic_refused_or_imported_on_request(tmp_path):
     path = _urdf(tmp_path, mimic='<mimic joint="j1" multiplier="2" offset="0.1"/>')
     with pytest.raises(eg.ModelError, match="joint 'j2' mimics joint 'j1'.*mimic='independent'"):
-        eg.from_urdf(path)
+        eg.from_urdf(path, mimic="refuse")
     with pytest.warns(UserWarning, match=r"mimic joints \['j2'\] imported as independent joints"):
         s = eg.from_urdf(path, mimic="independent")
     assert verify(s, states=3).ok(1e-10)

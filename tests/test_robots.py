@@ -170,7 +170,7 @@ def test_bad_urdf_files(tmp_path):
     planar.write_text("""<robot name="p"><link name="a"/><link name="b"><inertial><mass value="1"/>
       <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
       <joint name="slider_xy" type="planar"><parent link="a"/><child link="b"/></joint></robot>""")
-    with pytest.raises(eg.ModelError, match="joint 'slider_xy': unsupported joint type JointModelPlanar"):
+    with pytest.raises(eg.ModelError, match="joint 'slider_xy': a planar joint moves in the plane normal"):
         eg.from_urdf(planar)
     with pytest.raises(eg.ModelError, match="unknown robot 'ur55'"):
         eg.robots.load("ur55")

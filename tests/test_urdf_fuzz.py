@@ -143,7 +143,7 @@ def mutate(root: ET.Element, mutation) -> str:
 def pinocchio_model(path: Path):
     """Pinocchio's model of the file, or None if Pinocchio rejects it."""
     try:
-        return pin.buildModelFromUrdf(str(path))
+        return pin.buildModelFromUrdf(str(path), mimic=True)
     except Exception:
         return None
 
@@ -172,13 +172,13 @@ def check_mutant(robot: str, muts, folder: Path) -> str:
     except Exception as exc:  # any other exception type is a failure
         raise AssertionError(f"{done}: {type(exc).__name__} instead of ModelError: {exc}") from exc
     assert model is not None, f"{done}: Pinocchio rejects the file, eomgen accepted it"
-    data = model.createData()
     assert system.nv == model.nv, f"{done}: nv {system.nv} != Pinocchio's {model.nv}"
     rng = np.random.default_rng(0)
     for k in range(3):
         q = rng.uniform(-np.pi, np.pi, system.nq)
         u = rng.uniform(-2, 2, system.nv)
         qp = pinocchio_configuration(system, q)
+        data = model.createData()  # Pinocchio 4.1's crba is wrong with a reused Data below a mimic joint
         M = pin.crba(model, data, qp).reshape(model.nv, model.nv)
         M = np.triu(M) + np.triu(M, 1).T
         g = pin.computeGeneralizedGravity(model, data, qp).reshape(model.nv)
@@ -212,7 +212,5 @@ def test_mutated_urdf_many(robot, muts, tmp_path_factory):
 
 @pytest.mark.parametrize("robot", sorted(FILES))
 def test_unmutated_files_load(robot, tmp_path):
-    """The sources themselves load and equal Pinocchio (the fuzzing starts from working files), but for
-    the ones with mimic joints, which from_urdf refuses unless asked to import them independently."""
-    mimic = "<mimic" in source(robot).read_text()
-    assert check_mutant(robot, [], tmp_path) == ("ModelError" if mimic else "loaded, compared with Pinocchio")
+    """The sources themselves load and equal Pinocchio (the fuzzing starts from working files)."""
+    assert check_mutant(robot, [], tmp_path) == "loaded, compared with Pinocchio"

@@ -264,6 +264,8 @@ class Mimic:
             raise ModelError(f"joint '{joint.name}' cannot mimic itself")
         self.driver_name = other
         self.multiplier = scalar(k, f"joint '{joint.name}': mimic multiplier")
+        if self.multiplier.is_zero:
+            raise ModelError(f"joint '{joint.name}': mimic multiplier 0 would not move the joint; use Fixed")
         self.offset = scalar(o, f"joint '{joint.name}': mimic offset")
         self.driver: Joint | None = None
 
