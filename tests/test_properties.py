@@ -268,3 +268,36 @@ def plain(tree):
 @given(tree=S.trees().map(plain), method=st.sampled_from(METHODS))
 def test_equals_pinocchio_plain_names(tree, method):
     check_pinocchio(tree, method)
+
+
+# --- every joint type at once, through every output ------------------------------------------
+def every_joint() -> S.Tree:
+    """A chain of one body per joint type (skew axes, rotated placements), with a side branch."""
+    rng = np.random.default_rng(12)
+    tree = S.Tree(gravity=(0.2, -0.3, -9.81))
+    kinds = ["revolute", "prismatic", *sorted(S.JOINTS)]
+    for i, kind in enumerate(kinds):
+        axis = rng.normal(size=3)
+        q = rng.normal(size=4)
+        q /= np.linalg.norm(q)
+        inertia = np.diag(rng.uniform(0.1, 0.15, 3))
+        tree.bodies.append(S.BodySpec(
+            name=f"b{i}", parent=i - 1 if i != 4 else 1, kind=kind, joint=f"j{i}",
+            axis=tuple(axis / np.linalg.norm(axis)),
+            rotation=tuple(map(tuple, S.rotation_from_quaternion(q))),
+            translation=tuple(rng.uniform(-0.3, 0.3, 3)), mass=float(rng.uniform(0.5, 2)),
+            com=tuple(rng.uniform(-0.2, 0.2, 3)), inertia=tuple(map(tuple, inertia)),
+            axis2=(0.0, 0.6, 0.8) if abs(axis[0]) > 0.1 else (1.0, 0.0, 0.0), pitch=0.15))
+    identity = ((1, 0, 0), (0, 1, 0), (0, 0, 1))
+    tree.frames.append(S.FrameSpec("tool", len(kinds) - 1, identity, (0.1, 0.2, 0.0)))
+    return tree
+
+
+@pytest.mark.parametrize("method", ["recursive", "projected_newton_euler"])
+def test_every_joint_type_through_every_output(method, tmp_path):
+    """Pinocchio's joint models (its own API), then NumPy, the written module, the C extension and
+    write_c on one chain that holds every joint type."""
+    tree = every_joint()
+    check_pinocchio(tree, method)
+    check_numpy_and_module(tree, method, tmp_path, f"every_{method}")
+    check_compiled(tree, method, tmp_path)

@@ -39,7 +39,8 @@ def pinocchio_joint(joint, arr):
                              "the quaternion base with Pinocchio and map the speeds")
         return pin.JointModelFreeFlyer()
     if isinstance(joint, Spherical):
-        return pin.JointModelSpherical() if joint.parametrization == "quaternion" else pin.JointModelSphericalZYX()
+        quaternion = joint.parametrization == "quaternion"
+        return pin.JointModelSpherical() if quaternion else pin.JointModelSphericalZYX()
     if isinstance(joint, Universal):
         return pin.JointModelUniversal(arr(joint.axis1).ravel(), arr(joint.axis2).ravel())
     if isinstance(joint, Helical):
@@ -70,7 +71,8 @@ def to_pinocchio(system: System):
 
     model = pin.Model()
     model.gravity.linear = arr(system.gravity).ravel()
-    where, ids, mimics = {}, {}, []  # body -> (Pinocchio joint id, SE3 of the body frame in that joint's frame)
+    # where: body -> (Pinocchio joint id, SE3 of the body frame in that joint's frame)
+    where, ids, mimics = {}, {}, []
     for body in system.bodies:
         jid, M_parent = where[body.parent] if body.parent else (0, pin.SE3.Identity())
         M = M_parent * pin.SE3(arr(body.placement.rotation), arr(body.placement.translation).ravel())
@@ -83,7 +85,8 @@ def to_pinocchio(system: System):
             else:
                 mimics.append(body.joint)
             M = pin.SE3.Identity()
-        model.appendBodyToJoint(jid, pin.Inertia(float(body.mass), arr(body.com).ravel(), arr(body.inertia)), M)
+        inertia = pin.Inertia(float(body.mass), arr(body.com).ravel(), arr(body.inertia))
+        model.appendBodyToJoint(jid, inertia, M)
         model.addFrame(pin.Frame(body.name, jid, M, pin.FrameType.BODY))
         where[body] = (jid, M)
     for f in system.frames.values():

@@ -221,7 +221,8 @@ def pinocchio_configuration(system: System, q) -> np.ndarray:
     joint's; the quaternions of a free flyer and a ball joint are the same numbers in both."""
     q = np.asarray(q, float)
     parts, k = [], 0
-    for joint, is_continuous in zip(system.joints, getattr(system, "continuous", [False] * len(system.joints))):
+    continuous = getattr(system, "continuous", [False] * len(system.joints))
+    for joint, is_continuous in zip(system.joints, continuous):
         n = len(joint.coordinates)
         parts += [q[..., k + i] for i in range(n - 1)] if isinstance(joint, Planar) else []
         angle = is_continuous or isinstance(joint, Planar)
