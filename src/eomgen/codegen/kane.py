@@ -1,10 +1,12 @@
 """Numeric Kane's equations: the symbolic pieces of `KaneEquations.compact` as generated functions of
-(q, q̇, w), and every linear solve in NumPy with pivoting (np.linalg.solve, batched over states):
+(q, u, w), u the joint speeds, and every linear solve in NumPy with pivoting (np.linalg.solve, batched
+over states):
 
-    w_dep = −C_dep⁻¹ (C_ind w_ind + c0),  T = [I; −C_dep⁻¹ C_ind],  q̇ = −Y⁻¹ (K w + k0),  P = −Y⁻¹ K T,
-    ẇ_dep,0 = −C_dep⁻¹ ċ,  q̈₀ = −Y⁻¹ (K ẇ₀ + ẏ),  M̃ = Pᵀ M P,  f̃ = Pᵀ (h − M q̈₀),  F̃_r = Pᵀ Q
+    w_dep = −C_dep⁻¹ (C_ind w_ind + c0),  T = [I; −C_dep⁻¹ C_ind],  u = −Y⁻¹ (K w + k0),  P = −Y⁻¹ K T,
+    ẇ_dep,0 = −C_dep⁻¹ ċ,  u̇₀ = −Y⁻¹ (K ẇ₀ + ẏ),  M̃ = Pᵀ M P,  f̃ = Pᵀ (h − M u̇₀),  F̃_r = Pᵀ Q,
+    q̇ = q̇(q, u)
 
-(ċ, ẏ: the "rates", d/dt of the constraints and kinematic equations at ẇ = 0, q̈ = 0)."""
+(ċ, ẏ: the "rates", d/dt of the constraints and kinematic equations at ẇ = 0, u̇ = 0)."""
 from __future__ import annotations
 
 import numpy as np
@@ -22,22 +24,24 @@ _call = runtime_namespace()["_call"]
 
 class NumericKane:
     """Numeric Kane's equations in the independent speeds w (here: w_ind): mass_matrix(q, w), forcing(q, w),
-    qdot(q, w), dependent_speeds(q, w), active_forces(q, w), and `rhs(t, x)` for x = [q, w] (solve_ivp).
-    One state (q of shape (nq,)) or N states (N, nq); parameters by name in `params`."""
+    qdot(q, w) (the coordinate rates, nq of them), joint_speeds(q, w) (u, n of them), dependent_speeds(q, w),
+    active_forces(q, w), and `rhs(t, x)` for x = [q, w] (solve_ivp). One state (q of shape (nq,)) or N
+    states (N, nq); parameters by name in `params`."""
 
     syntax = PYTHON
 
     def __init__(self, kane) -> None:
         self.kane = kane
-        self.n = len(kane.speeds)
-        self.nq, self.nv = self.n, len(kane.independent)
+        self.n = len(kane.speeds)  # as many as the joint speeds u
+        self.nq, self.nv = len(kane.system.q), len(kane.independent)
         self.parameters = Parameters(kane.parameters)
         self.params = self.parameters.symbols  # p[k] of the generated code, sorted by name
         self._dep, self._ind = kane._indices()
-        w_inputs = [] if kane.speeds_are_qdot else list(kane.speeds)  # else w is q̇ itself
+        w_inputs = [] if kane.speeds_are_qdot else list(kane.speeds)  # else w is u itself
         writer = FunctionWriter(kane.subexpressions, {"q": list(kane.system.q), "u": list(kane.system.u),
                                                       "ud": w_inputs, "p": self.params}, self.syntax)
-        keys = [k for k in ("M", "h", "Y", "C", "rates") if k != "C" or kane.dependent]
+        keys = [k for k in ("M", "h", "Y", "C", "rates", "qdot")
+                if (k != "C" or kane.dependent) and (k != "qdot" or not kane.joint_speeds_are_rates)]
         written = []
         for i, key in enumerate(keys):
             source, shape, ops = writer.source(f"e{i}", kane.compact[key], symmetric=key == "M")
@@ -50,16 +54,20 @@ class NumericKane:
 
     _p, bind = NumericEoM._p, NumericEoM.bind
 
-    def _eval(self, key: str, q, qd=None, w=None, params=None) -> np.ndarray:
-        """Generated function `key` at (q, q̇, w): shape batch + (rows, cols)."""
+    def _eval(self, key: str, q, u=None, w=None, params=None) -> np.ndarray:
+        """Generated function `key` at (q, u, w): shape batch + (rows, cols)."""
         f = self.functions[key]
-        return _call(f.function, f.shape, self.n, self.n, q, qd, w, self._p(params, key))
+        return _call(f.function, f.shape, self.nq, self.n, q, u, w, self._p(params, key))
 
     def _w(self, w) -> np.ndarray | None:
         return None if self.kane.speeds_are_qdot else w
 
+    def _rates(self, q, u, params) -> np.ndarray:
+        """q̇(q, u), the coordinate rates (u itself where no function "qdot" was needed)."""
+        return self._eval("qdot", q, u, params=params)[..., 0] if "qdot" in self.functions else u
+
     def _speeds(self, q, w_ind, params) -> tuple:
-        """(w, q̇, P = ∂q̇/∂w_ind, C_dep, Y, K) at q and w_ind."""
+        """(w, u, P = ∂u/∂w_ind, C_dep, Y, K) at q and w_ind."""
         q, w_ind = np.asarray(q, dtype=float), np.asarray(w_ind, dtype=float)
         batch, n, p = q.shape[:-1], self.n, self.nv
         if w_ind.shape != batch + (p,):
@@ -88,7 +96,11 @@ class NumericKane:
         return self._dynamics(q, w, params)[2]
 
     def qdot(self, q, w, params=None) -> np.ndarray:
-        """q̇ = −Y⁻¹ (K w + k0)."""
+        """q̇ = q̇(q, u), the coordinate rates (nq)."""
+        return self._rates(q, self.joint_speeds(q, w, params), params)
+
+    def joint_speeds(self, q, w, params=None) -> np.ndarray:
+        """u = −Y⁻¹ (K w + k0), the joint speeds (n; q̇ but for quaternion ball and planar joints)."""
         return self._speeds(q, w, params)[1]
 
     def dependent_speeds(self, q, w, params=None) -> np.ndarray:
@@ -96,28 +108,28 @@ class NumericKane:
         return self._speeds(q, w, params)[0][..., self._dep]
 
     def active_forces(self, q, w, params=None) -> np.ndarray:
-        """F̃_r = Pᵀ Q (Q = τ_loads − g, the generalized active forces in q̇)."""
-        _, qd, P, *_ = self._speeds(q, w, params)
-        return (np.swapaxes(P, -1, -2) @ self._eval("h", q, qd, params=params)[..., 1:])[..., 0]
+        """F̃_r = Pᵀ Q (Q = τ_loads − g, the generalized active forces in u)."""
+        _, u, P, *_ = self._speeds(q, w, params)
+        return (np.swapaxes(P, -1, -2) @ self._eval("h", q, u, params=params)[..., 1:])[..., 0]
 
     def _dynamics(self, q, w_ind, params) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(q̇, M̃, f̃) at q and w_ind."""
-        w, qd, P, C_dep, Y, K = self._speeds(q, w_ind, params)
-        rates = self._eval("rates", q, qd, self._w(w), params)
+        """(u, M̃, f̃) at q and w_ind."""
+        w, u, P, C_dep, Y, K = self._speeds(q, w_ind, params)
+        rates = self._eval("rates", q, u, self._w(w), params)
         wd0 = np.zeros(w.shape + (1,))
         if self._dep:
             wd0[..., self._dep, :] = -np.linalg.solve(C_dep, rates[..., self.n:, :])
-        qdd0 = -np.linalg.solve(Y, K @ wd0 + rates[..., :self.n, :])
+        ud0 = -np.linalg.solve(Y, K @ wd0 + rates[..., :self.n, :])
         M = self._eval("M", q, params=params)
         Pt = np.swapaxes(P, -1, -2)
-        h = self._eval("h", q, qd, params=params)[..., :1]
-        return qd, Pt @ M @ P, (Pt @ (h - M @ qdd0))[..., 0]
+        h = self._eval("h", q, u, params=params)[..., :1]
+        return u, Pt @ M @ P, (Pt @ (h - M @ ud0))[..., 0]
 
     def rhs(self, t, x, params=None) -> np.ndarray:
-        """d/dt [q, w_ind] = [q̇, M̃⁻¹ f̃]."""
+        """d/dt [q, w_ind] = [q̇(q, u), M̃⁻¹ f̃]."""
         q, w = x[..., :self.nq], x[..., self.nq:]
-        qd, M, f = self._dynamics(q, w, params)
-        return np.concatenate([qd, np.linalg.solve(M, f[..., None])[..., 0]], -1)
+        u, M, f = self._dynamics(q, w, params)
+        return np.concatenate([self._rates(q, u, params), np.linalg.solve(M, f[..., None])[..., 0]], -1)
 
 
 class CompiledKane(NumericKane):
@@ -130,9 +142,9 @@ class CompiledKane(NumericKane):
         super().__init__(kane)
 
     def _compile(self, written: list) -> dict[str, Generated]:
-        return extension_functions(written, self.n, self.n, len(self.params))
+        return extension_functions(written, self.nq, self.n, len(self.params))
 
     _pvec = CompiledEoM._pvec
 
-    def _eval(self, key, q, qd=None, w=None, params=None) -> np.ndarray:
-        return self.functions[key].function(q, qd, w, self._pvec(params, key))
+    def _eval(self, key, q, u=None, w=None, params=None) -> np.ndarray:
+        return self.functions[key].function(q, u, w, self._pvec(params, key))

@@ -1,19 +1,21 @@
 """Kane's equations with generalized speeds and nonholonomic constraints.
 
-The generalized speeds w are defined by kinematic equations linear in q̇ and w, and split by velocity
-constraints linear in w into p independent and m dependent ones:
+The joint speeds u = system.u are the coordinate rates q̇ for most joints, but a quaternion ball joint's
+are its angular velocity and a planar joint's its twist, both in child axes: q̇ = q̇(q, u) (`System.qdot`;
+nq ≠ nv). The generalized speeds w are defined by kinematic equations linear in u and w, and split by
+velocity constraints linear in w into p independent and m dependent ones:
 
-    Y(q) q̇ + K(q) w + k0(q) = 0,        C(q) w + c0(q) = 0,   C w = C_dep w_dep + C_ind w_ind.
+    Y(q) u + K(q) w + k0(q) = 0,        C(q) w + c0(q) = 0,   C w = C_dep w_dep + C_ind w_ind.
 
-The equations of motion in q̇, M(q) q̈ = h(q, q̇) (projected Newton-Euler: h = τ_loads − b − g, i.e.
+The equations of motion in u, M(q) u̇ = h(q, u) (projected Newton-Euler: h = τ_loads − b − g, i.e.
 Kane's F_r + F*_r with the holonomic partial velocities, the columns of J_P and J_R) are derived
-symbolically, with Y, K, k0, C, c0 and their time derivatives at q̈ = 0, ẇ = 0. Everything that
-needs a matrix inverse is left to the numbers (see `codegen.kane`), solved with pivoting:
+symbolically, with Y, K, k0, C, c0 and their time derivatives at u̇ = 0, ẇ = 0 (ḟ(q) = ∂f/∂q q̇(q, u)).
+Everything that needs a matrix inverse is left to the numbers (see `codegen.kane`), solved with pivoting:
 
-    w_dep = −C_dep⁻¹ (C_ind w_ind + c0),   q̇ = −Y⁻¹ (K w + k0),
-    P = ∂q̇/∂w_ind = −Y⁻¹ K T,   T = ∂w/∂w_ind = [I; −C_dep⁻¹ C_ind],
-    ẇ_dep,0 = −C_dep⁻¹ d/dt(C w + c0)|_(ẇ=0),   q̈₀ = −Y⁻¹ (K ẇ₀ + d/dt(Y q̇ + K w + k0)|_(q̈=0, ẇ=0)),
-    M̃ = Pᵀ M P,   f̃ = Pᵀ (h − M q̈₀),   F̃_r = Pᵀ (τ_loads − g)
+    w_dep = −C_dep⁻¹ (C_ind w_ind + c0),   u = −Y⁻¹ (K w + k0),   q̇ = q̇(q, u),
+    P = ∂u/∂w_ind = −Y⁻¹ K T,   T = ∂w/∂w_ind = [I; −C_dep⁻¹ C_ind],
+    ẇ_dep,0 = −C_dep⁻¹ d/dt(C w + c0)|_(ẇ=0),   u̇₀ = −Y⁻¹ (K ẇ₀ + d/dt(Y u + K w + k0)|_(u̇=0, ẇ=0)),
+    M̃ = Pᵀ M P,   f̃ = Pᵀ (h − M u̇₀),   F̃_r = Pᵀ (τ_loads − g)
 
 and M̃ ẇ_ind = f̃ are Kane's p equations F̃_r + F̃*_r = 0. Invertibility of C_dep and Y is checked at
 random states; the closed forms solve symbolically only on pivots proven nonzero."""
@@ -43,9 +45,10 @@ NUMERIC = "eg.codegen(k) solves it numerically with pivoting"
 @dataclass(eq=False)
 class KaneEquations(ClosedForms):
     """Kane's equations M̃(q) ẇ_ind = f̃(q, w_ind) with q̇ = q̇(q, w_ind). `compact` holds the pieces in
-    named intermediates (`subexpressions`), in q, q̇ = system.u and the speeds w:
-    "M" (n × n), "h" ([h | τ_loads − g], n × 2), "Y" ([Y | K | k0], n × (2n + 1)),
-    "C" ([C | c0], m × (n + 1)) and "rates" ([d/dt(Y q̇ + K w + k0); d/dt(C w + c0)] at q̈ = 0, ẇ = 0)."""
+    named intermediates (`subexpressions`), in q, the joint speeds u = system.u (n of them) and the
+    speeds w: "M" (n × n), "h" ([h | τ_loads − g], n × 2), "Y" ([Y | K | k0], n × (2n + 1)),
+    "C" ([C | c0], m × (n + 1)), "rates" ([d/dt(Y u + K w + k0); d/dt(C w + c0)] at u̇ = 0, ẇ = 0) and
+    "qdot" (q̇(q, u), nq × 1, `System.qdot`)."""
 
     system: System
     kinematics: Kinematics
@@ -54,13 +57,20 @@ class KaneEquations(ClosedForms):
     dependent: list  # w_dep (m = n − p)
     compact: dict = field(default_factory=dict)
     parameters: set = field(default_factory=set)  # the system's, constraints' and kinematic equations'
-    eom: EquationsOfMotion | None = None  # the equations in q̇ (M, b, g, τ, T, U)
+    eom: EquationsOfMotion | None = None  # the equations in the joint speeds u (M, b, g, τ, T, U)
     _closed: dict = field(default_factory=dict, repr=False)
 
     @property
     def speeds_are_qdot(self) -> bool:
-        """True when w = q̇ (no kinematic equations): the speeds are the symbols of system.u."""
+        """True when w = u (no kinematic equations): the speeds are the joint speeds, the symbols of
+        system.u (q̇ unless `joint_speeds_are_rates` is False)."""
         return self.speeds == list(self.system.u)
+
+    @property
+    def joint_speeds_are_rates(self) -> bool:
+        """True when the joint speeds are the coordinate rates, u = q̇ (no quaternion ball or planar
+        joint)."""
+        return list(self.system.qdot) == list(self.system.u)
 
     @property
     def mass_matrix(self) -> sp.Matrix:
@@ -79,8 +89,15 @@ class KaneEquations(ClosedForms):
 
     @property
     def qdot(self) -> sp.Matrix:
-        """The kinematic differential equations q̇ = −Y⁻¹ (K w + k0) in q and w_ind; closed form."""
+        """The kinematic differential equations q̇ = q̇(q, u) with u = −Y⁻¹ (K w + k0), in q and w_ind
+        (nq rows); closed form."""
         return self._solution()["qdot"]
+
+    @property
+    def joint_speeds(self) -> sp.Matrix:
+        """The joint speeds u = −Y⁻¹ (K w + k0) in q and w_ind (n rows; q̇ but for quaternion ball and planar
+        joints); closed form."""
+        return self._solution()["u"]
 
     @property
     def dependent_speeds(self) -> sp.Matrix:
@@ -100,7 +117,7 @@ class KaneEquations(ClosedForms):
 
     # --- closed forms ---------------------------------------------------------------------------
     def _blocks(self) -> dict[str, sp.Matrix]:
-        """Y, K, k0, r_kin, C_dep, C_ind, c0, r_con, M, h, Q in closed form (q, q̇, w)."""
+        """Y, K, k0, r_kin, C_dep, C_ind, c0, r_con, M, h, Q in closed form (q, u, w)."""
         if "blocks" not in self._closed:
             n, m = len(self.speeds), len(self.dependent)
             Yk, Cc, rates = (self.subexpressions.inline(self.compact[k]) for k in ("Y", "C", "rates"))
@@ -136,27 +153,27 @@ class KaneEquations(ClosedForms):
         return self._closed["speeds"]
 
     def _solution(self) -> dict[str, sp.Matrix]:
-        """The closed forms of q̇, M̃, f̃ and F̃_r in q and w_ind (see the module's formulas)."""
+        """The closed forms of u, q̇, M̃, f̃ and F̃_r in q and w_ind (see the module's formulas)."""
         if "solution" not in self._closed:
             B = self._blocks()
             w_dep, T, wd_dep = self._speeds_closed()
-            n, p = len(self.speeds), len(self.independent)
+            n = len(self.speeds)
             X = solve_proven(B["Y"], -B["K"].row_join(B["k0"]).row_join(B["r_kin"]),
-                             "the speed map Y = ∂(kinematic equations)/∂q̇")
-            W = X[:, :n]  # q̇ = W w + X_k0,  q̈₀ = W ẇ₀ + X_r
+                             "the speed map Y = ∂(kinematic equations)/∂u")
+            W = X[:, :n]  # u = W w + X_k0,  u̇₀ = W ẇ₀ + X_r
             on_w = dict(zip(self.dependent, w_dep))
             w = sp.Matrix(self.speeds).xreplace(on_w)
-            qdot = W * w + X[:, n]
-            state = {**dict(zip(self.system.u, qdot)), **on_w}
+            u = W * w + X[:, n]
+            state = {**dict(zip(self.system.u, u)), **on_w}
             wd0 = sp.zeros(n, 1)
             for r, i in enumerate(self._indices()[0]):
                 wd0[i] = wd_dep[r]
-            qdd0 = (W * wd0 + X[:, n + 1]).xreplace(state)
+            ud0 = (W * wd0 + X[:, n + 1]).xreplace(state)
             P = W * T
             M = B["M"]
             self._closed["solution"] = {
-                "qdot": qdot, "mass_matrix": P.T * M * P,
-                "forcing": P.T * (B["h"].xreplace(state) - M * qdd0), "F_r": P.T * B["Q"].xreplace(state)}
+                "u": u, "qdot": self.compact["qdot"].xreplace(state), "mass_matrix": P.T * M * P,
+                "forcing": P.T * (B["h"].xreplace(state) - M * ud0), "F_r": P.T * B["Q"].xreplace(state)}
         return self._closed["solution"]
 
 
@@ -235,33 +252,36 @@ def _check_invertible(sub, matrices: dict[str, sp.Matrix], q: list, params: list
 def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=None,
          independent=None) -> KaneEquations:
     """Kane's equations of `system` in the generalized `speeds` w, defined by `kinematic_equations`
-    (expressions = 0, linear in q̇ = system.u and w; default w = q̇), with the velocity constraints
-    `nonholonomic` (expressions in q and w = 0, linear in w) and the `independent` speeds."""
+    (expressions = 0, linear in the joint speeds u = system.u and w; default w = u), with the velocity
+    constraints `nonholonomic` (expressions in q and w = 0, linear in w) and the `independent` speeds.
+    u is q̇ but for a quaternion ball joint (ω in child axes) and a planar joint (its twist in child axes),
+    whose coordinates follow from q̇ = system.qdot(q, u)."""
     if not isinstance(system, System):
         raise ModelError(f"kane: expected an eomgen.System, got {type(system).__name__}")
     if any(isinstance(j, FreeFlyer) for j in system.joints):
         raise ModelError("kane: a free-flyer base is not supported; give the base its own joints")
     if any(isinstance(j, FlexibleLink) for j in system.joints):
         raise ModelError("kane: flexible links are not supported")
-    q, qd = list(system.q), list(system.u)
-    n = len(qd)
-    speeds = qd if speeds is None else _symbols(speeds, "speeds")
+    q, u = list(system.q), list(system.u)
+    n = len(u)
+    speeds = u if speeds is None else _symbols(speeds, "speeds")
     if len(speeds) != n or len(set(speeds)) != n:
         raise ModelError(f"kane: give {n} distinct speeds, got {speeds}")
     kinematic_equations, nonholonomic = (None if exprs is None else _expressions(system, exprs, what, speeds)
                                          for exprs, what in ((kinematic_equations, "kinematic equation"),
                                                              (nonholonomic, "nonholonomic constraint")))
     if kinematic_equations is None:
-        if speeds != qd:
-            raise ModelError("kane: new speeds need kinematic_equations (Y q̇ + K w + k0 = 0)")
-        kinematic_equations = [w - x for w, x in zip(speeds, qd)]  # w = q̇: the same symbols
+        if speeds != u:
+            raise ModelError("kane: new speeds need kinematic_equations (Y u + K w + k0 = 0, u = system.u)")
+        kinematic_equations = [w - x for w, x in zip(speeds, u)]  # w = u: the same symbols
         Y, K, k0 = sp.eye(n), -sp.eye(n), sp.zeros(n, 1)
     else:
         if len(kinematic_equations) != n:
             raise ModelError(f"kane: {n} kinematic equations needed, got {len(kinematic_equations)}")
-        if set(speeds) & set(qd):
-            raise ModelError(f"kane: speeds with kinematic_equations must be new symbols, not q̇ {qd}")
-        YK, k0 = _linear(kinematic_equations, qd + speeds, "kinematic equation")
+        if set(speeds) & set(u):
+            raise ModelError(f"kane: speeds with kinematic_equations must be new symbols, not the joint "
+                             f"speeds {u}")
+        YK, k0 = _linear(kinematic_equations, u + speeds, "kinematic equation")
         Y, K = YK[:, :n], YK[:, n:]
     nonholonomic = list(nonholonomic or [])
     independent = speeds if independent is None else _symbols(independent, "independent")
@@ -275,26 +295,26 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     C, c0 = _linear(nonholonomic, speeds, "nonholonomic constraint") if nonholonomic else (
         sp.zeros(0, n), sp.zeros(0, 1))
     for i, e in enumerate(nonholonomic):
-        stray = sp.sympify(e).free_symbols & (set(qd) - set(speeds))
+        stray = sp.sympify(e).free_symbols & (set(u) - set(speeds))
         if stray:
-            raise ModelError(f"kane: nonholonomic constraint {i} depends on q̇ {sorted(stray, key=str)}: "
-                             "write it in q and the speeds")
+            raise ModelError(f"kane: nonholonomic constraint {i} depends on q̇ (the joint speeds) "
+                             f"{sorted(stray, key=str)}: write it in q and the speeds")
 
     given = [*kinematic_equations, *nonholonomic]
     parameters = (system.parameters | set().union(*(sp.sympify(e).free_symbols for e in given))) - set(
-        q + qd + speeds)
+        q + u + speeds)
     kin = Kinematics(system)
     sub = kin.sub
     eom = projected_newton_euler.derive(kin)
     Cd = sub.add_matrix(C[:, [speeds.index(s) for s in dependent]])
     Yn = sub.add_matrix(Y)
     _check_invertible(sub, {"the constraints' matrix of the dependent speeds C_dep": Cd,
-                            "the speed map (∂ kinematic equations / ∂q̇) Y": Yn},
+                            "the speed map (∂ kinematic equations / ∂u) Y": Yn},
                       q, parameters)
-    rates = kin.time_derivative(sp.Matrix([*kinematic_equations, *nonholonomic]))  # ∂/∂q · q̇ (q̈, ẇ = 0)
+    rates = kin.time_derivative(sp.Matrix([*kinematic_equations, *nonholonomic]))  # ∂/∂q q̇ (u̇, ẇ = 0)
     gravity = -eom.compact["g"]
     compact = {"M": eom.compact["M"],
                "h": (eom.tau_compact - eom.compact["b"] + gravity).row_join(eom.tau_compact + gravity),
                "Y": Yn.row_join(sub.add_matrix(K)).row_join(sub.add_matrix(k0)),
-               "C": sub.add_matrix(C).row_join(sub.add_matrix(c0)), "rates": rates}
+               "C": sub.add_matrix(C).row_join(sub.add_matrix(c0)), "rates": rates, "qdot": system.qdot}
     return KaneEquations(system, kin, speeds, independent, dependent, compact, parameters, eom)

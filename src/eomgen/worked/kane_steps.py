@@ -14,19 +14,23 @@ from ..textbook import Simplifier
 
 def solution(k: KaneEquations, simplifier: Simplifier, title: str | None) -> Solution:
     kin, n, p = k.kinematics, len(k.speeds), len(k.independent)
-    qdot = k.qdot
-    P = qdot.jacobian(sp.Matrix(k.independent))  # ∂q̇/∂w_ind: the holonomic partial velocities' weights
+    u = k.joint_speeds
+    P = u.jacobian(sp.Matrix(k.independent))  # ∂u/∂w_ind: the holonomic partial velocities' weights
+    joint = {} if k.joint_speeds_are_rates else {"joint speeds": simplifier.matrix(u)}
+    kinematic = (r"for $\dot q$." if k.joint_speeds_are_rates else r"for the joint speeds $u$, then "
+                 r"$\dot q(q, u)$ (a quaternion ball joint's and a planar joint's $u$ are not rates).")
     speeds = Step(
         "Speeds and constraints",
         f"{n} generalized speeds, {n - p} velocity constraints, so {p} independent speeds. The "
         "constraints, linear in the speeds, are solved for the dependent ones (a linear solve on "
-        r"pivots proven nonzero), and the kinematic equations for $\dot q$.",
+        f"pivots proven nonzero), and the kinematic equations {kinematic}",
         {
             "speeds": sp.Matrix(k.speeds),
             "independent speeds": sp.Matrix(k.independent),
             "dependent speeds": sp.Matrix(k.dependent),
             "dependent speeds solved": simplifier.matrix(k.dependent_speeds),
-            "qdot": simplifier.matrix(qdot),
+            **joint,
+            "qdot": simplifier.matrix(k.qdot),
         },
         "kane",
     )
