@@ -95,7 +95,8 @@ class System:
 
     @property
     def u(self) -> sp.Matrix:
-        """The speeds u, a column of symbols (q̇ but for a quaternion base's twist)."""
+        """The speeds u, a column of symbols (q̇ but for the twist of a quaternion base, a ball joint or a
+        planar joint)."""
         return sp.Matrix([x for j in self.joints for x in j.speeds])
 
     @property
@@ -105,7 +106,8 @@ class System:
 
     @property
     def qdot(self) -> sp.Matrix:
-        """q̇(q, u): the kinematic differential equations (q̇ = u but for a free-flyer base)."""
+        """q̇(q, u): the kinematic differential equations (q̇ = u but for a quaternion base, a ball joint
+        and a planar joint)."""
         return sp.Matrix([x for j in self.joints for x in j.qdot()])
 
     @property
