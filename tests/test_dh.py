@@ -286,7 +286,8 @@ def spatial_arm(rng):
 @pytest.mark.parametrize("robot", ["puma560", "spatial_arm"])
 def test_standard_equals_modified(robot):
     links = dh_tables.puma560() if robot == "puma560" else spatial_arm(np.random.default_rng(4))
-    tool = eg.Placement(rotation=sp.Matrix([[0, -1, 0], [1, 0, 0], [0, 0, 1]]), translation=(0.01, 0.02, 0.1))
+    tool = eg.Placement(rotation=sp.Matrix([[0, -1, 0], [1, 0, 0], [0, 0, 1]]),
+                        translation=(0.01, 0.02, 0.1))
     modified, modified_tool = to_modified(links, tool)
     base = eg.Placement(translation=(0.1, -0.2, 0.3))
     standard = eg.from_dh(links, base=base, tool=tool, strict=False)
@@ -325,7 +326,8 @@ def test_standard_equals_modified(robot):
      r"DH link 2 \('j'\): .*coordinate 'j' is used by another joint"),
     ([(0, 0, 0)], {}, r"DH link 1: expected an eomgen.DHLink, got tuple"),
     ([], {}, r"from_dh: links must be a non-empty list"),
-    ([eg.DHLink(d=0, a=0, alpha=0)], {"convention": "craig"}, r"convention must be 'standard' or 'modified'"),
+    ([eg.DHLink(d=0, a=0, alpha=0)], {"convention": "craig"},
+     r"convention must be 'standard' or 'modified'"),
     ([eg.DHLink(d=0, a=0, alpha=0)], {"tool": (0, 0, 1)}, r"from_dh: tool must be an eomgen.Placement"),
 ])
 def test_bad_tables(links, kwargs, match):

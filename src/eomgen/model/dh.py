@@ -135,7 +135,8 @@ def _x_screw(row: dict) -> Placement:
 
 def _compose(A: Placement, B: Placement) -> Placement:
     """A · B: (R_A R_B, p_A + R_A p_B)."""
-    return Placement(rotation=A.rotation * B.rotation, translation=A.translation + A.rotation * B.translation)
+    return Placement(rotation=A.rotation * B.rotation,
+                     translation=A.translation + A.rotation * B.translation)
 
 
 def cos_sin(angle: sp.Expr) -> tuple[sp.Expr, sp.Expr]:

@@ -50,6 +50,6 @@ def stanford() -> list[DHLink]:
         ("revolute", 0, 0, half, 0.630, (0, 0.566, 0.003), (0.003, 0.0004, 0), 0.097),
         ("revolute", 0, 0, 0, 0.51, (0, 0, 1.554), (0.013, 0.013, 0.0003), 0.020),
     ]
-    return [DHLink(kind=kind, **{"d" if kind == "revolute" else "theta": dt}, a=a, alpha=alpha, mass=m, com=c,
-                   inertia=sp.diag(*I), motor_inertia=Jm)
+    return [DHLink(kind=kind, **{"d" if kind == "revolute" else "theta": dt}, a=a, alpha=alpha, mass=m,
+                   com=c, inertia=sp.diag(*I), motor_inertia=Jm)
             for kind, dt, a, alpha, m, c, I, Jm in rows]

@@ -209,7 +209,8 @@ def from_urdf(path, floating_base: bool | str = False, srdf=None, strict: bool =
     Armature comes from the SRDF's rotor parameters when `srdf` is given. With `strict=False` an
     inertia that is not physically possible is a warning, not an error."""
     if floating_base not in (False, True, "quaternion", "euler"):
-        raise ModelError(f"floating_base must be False, True, 'quaternion' or 'euler', got {floating_base!r}")
+        raise ModelError("floating_base must be False, True, 'quaternion' or 'euler', "
+                         f"got {floating_base!r}")
     base = floating_base if isinstance(floating_base, str) else "quaternion"
     system = from_pinocchio(parse_urdf(path, bool(floating_base), srdf, mimic), strict=strict, base=base)
     system.source = str(path)
