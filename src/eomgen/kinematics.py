@@ -3,8 +3,8 @@
 Computed once per system and shared by every method. Every quantity is kept as named intermediates
 (see `Subexpressions`). Time derivatives use the chain rule with q̇ = q̇(q, u) of the joints (u but for
 a body twist's speeds): the general `time_derivative` (d/dt f(q) = Σ_k ∂f/∂q_k q̇_k, through the
-intermediates) and, for J̇ u, the same rule applied along the tree (ė = Ω × e for a vector fixed in a body), which costs O(n) instead of
-O(n²) per body; a test checks the two against each other."""
+intermediates) and, for J̇ u, the same rule applied along the tree (ė = Ω × e for a vector fixed in a
+body), which costs O(n) instead of O(n²) per body; a test checks the two against each other."""
 from __future__ import annotations
 
 import sympy as sp
@@ -178,17 +178,10 @@ class Kinematics:
         return self._cached(("bias", body), build)
 
     def _joint_bias(self, body: Body) -> tuple[sp.Matrix, sp.Matrix]:
-        """The joint's (a_rel, α_rel) in the axes of its subspace, in this system's speeds."""
+        """The joint's (a_rel, α_rel) in the axes of its subspace (a mimic's columns are constant: 0)."""
         joint = body.joint
-        S = joint.joint_frame_subspace()
-        if S is None:
-            a_rel, alpha_rel = joint.bias()
-        else:  # joint axes: the plain rate of the columns
-            rates = [(joint.rate(v), joint.rate(w)) for v, w in S]
-            speeds = [self.u[i] for i in body.speed_indices]
-            a_rel = sum((scale(u, dv) for (dv, _), u in zip(rates, speeds)), sp.zeros(3, 1))
-            alpha_rel = sum((scale(u, dw) for (_, dw), u in zip(rates, speeds)), sp.zeros(3, 1))
-        return self.sub.add_matrix(a_rel), self.sub.add_matrix(alpha_rel)
+        bias = joint.bias() if joint.joint_frame_subspace() is None else joint.joint_frame_bias()
+        return tuple(self.sub.add_matrix(x) for x in bias)
 
     def Jdot_u_P(self, point: Point) -> sp.Matrix:
         """J̇_P u: the acceleration of a point when u̇ = 0, a_i + α_i × c + Ω_i × (Ω_i × c), c = r − p_i."""

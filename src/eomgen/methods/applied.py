@@ -75,7 +75,7 @@ def armature(kin: Kinematics) -> list[tuple[int, sp.Expr]]:
     terms = []
     for body in kin.system.bodies:
         joint = body.joint
-        mimic = getattr(joint, "mimic", None)
+        mimic = joint.mimic
         k = 1 if mimic is None else mimic.multiplier
         if joint.armature != 0:
             terms += [(i, mul(k**2, joint.armature)) for i in body.speed_indices]

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
 import sympy as sp
 
 from ..eom import EquationsOfMotion
@@ -29,6 +28,7 @@ from ..errors import ModelError
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
 from ..model.loads import Point
+from ..subexpressions import samples
 from ..symbols import Generated
 from .applied import add_armature, applied_wrenches, potential_energy
 
@@ -214,15 +214,14 @@ def _efforts(kin: Kinematics, body, F: sp.Matrix, T: sp.Matrix) -> tuple[sp.Matr
 
 
 def _constant(G: sp.Matrix, q: list) -> sp.Matrix | None:
-    """G at q = 0 if it does not depend on q (checked at random q: cos² + sin² = 1 of a turned axis
-    stays unproven in floats), else None."""
-    G0 = G.xreplace({x: 0 for x in q})
+    """G at q = 0 if it does not depend on q (judged at random states, `samples`: cos² + sin² = 1 of a
+    turned axis stays unproven in floats), else None."""
     if not G.free_symbols & set(q):
         return G
-    rng = np.random.default_rng(0)
-    for _ in range(3):
-        at = G.xreplace({x: float(v) for x, v in zip(q, rng.uniform(-3, 3, len(q)))}) - G0
-        if any(abs(complex(e)) > 1e-12 for e in at if e.is_number) or not all(e.is_number for e in at):
+    G0 = G.xreplace({x: 0 for x in q})
+    for point in samples(q, (G.free_symbols - set(q)), 3):
+        at, at0 = (sp.Matrix(M).xreplace(point) for M in (G, G0))
+        if any(abs(complex(a - b)) > 1e-12 for a, b in zip(at, at0)):
             return None
     return G0
 
@@ -231,7 +230,7 @@ def cut_equations(kin: Kinematics) -> CutEquations:
     """Newton and Euler of every body cut free, with the joint reactions as unknowns (mimic joints,
     which couple two joints through a mechanism that is not a body, are not written out)."""
     system, sub = kin.system, kin.sub
-    mimics = [b.joint.name for b in system.bodies if getattr(b.joint, "mimic", None) is not None]
+    mimics = [b.joint.name for b in system.bodies if b.joint.mimic is not None]
     if mimics:
         raise ModelError(f"the cut-free balances are not written for mimic joints ({mimics}); derive "
                          "the equations (eg.derive) to include them")

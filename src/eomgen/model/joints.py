@@ -101,6 +101,7 @@ class Joint:
 
     group = "vector"  # configuration space for integration: "vector", "SO3", "SE2" or "SE3"
     pitch_index: int | None = None  # ZYX angles: position of the pitch in the joint's q (singular at ±90°)
+    mimic: "Mimic | None" = None  # a joint that follows another's coordinate (`OneAxis`)
 
     def __init__(self, name, axis=(0, 0, 1), *, actuated: bool = True, armature=0) -> None:
         self.name, self.q = joint_name(name)
@@ -136,8 +137,19 @@ class Joint:
         S, u = self.subspace(), self.speeds
         v = sum((vk * uk for (vk, _), uk in zip(S, u)), zero())
         w = sum((wk * uk for (_, wk), uk in zip(S, u)), zero())
-        a = w.cross(v) + sum((self.rate(vk) * uk for (vk, _), uk in zip(S, u)), zero())
-        return a, sum((self.rate(wk) * uk for (_, wk), uk in zip(S, u)), zero())
+        a, alpha = self._rates(S)
+        return w.cross(v) + a, alpha
+
+    def joint_frame_bias(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """(a_rel, α_rel) in joint axes for `joint_frame_subspace`: Σ_k Ṡ_k u_k (the joint frame does
+        not turn with the joint)."""
+        return self._rates(self.joint_frame_subspace())
+
+    def _rates(self, S: list[Column]) -> tuple[sp.Matrix, sp.Matrix]:
+        """(Σ_k v̇_k u_k, Σ_k ω̇_k u_k) of columns S over the joint's own speeds."""
+        u = self.speeds
+        return (sum((self.rate(vk) * uk for (vk, _), uk in zip(S, u)), zero()),
+                sum((self.rate(wk) * uk for (_, wk), uk in zip(S, u)), zero()))
 
     def rate(self, x: sp.Matrix) -> sp.Matrix:
         """ẋ = Σ_j ∂x/∂q_j q̇_j(q, u) for an expression in the joint's coordinates."""

@@ -11,7 +11,7 @@ import sympy as sp
 from ..errors import ModelError
 from ..symbols import Generated, user_symbols
 from .free_flyer import FreeFlyer
-from .joints import Fixed, Joint, OneAxis, Placement, Revolute
+from .joints import Fixed, Joint, Placement, Revolute
 from .loads import Actuator, Damper, Force, Motor, Point, Spring, Torque
 from .values import is_numeric, matrix3, nonnegative, scalar, vector3
 
@@ -282,7 +282,7 @@ class System:
 
     def _mimic(self, name: str, joint: Joint) -> list[int]:
         """A mimic joint bound to its driver, which must be in the system already: [the driver's speed]."""
-        mimic = getattr(joint, "mimic", None)
+        mimic = joint.mimic
         if mimic is None:
             return []
         drivers = {b.joint.name: b for b in self.bodies}
@@ -290,7 +290,7 @@ class System:
             raise ModelError(f"body '{name}': joint '{joint.name}' mimics the unknown joint '{mimic.driver_name}'; "
                              f"add the driving joint first (joints are {sorted(drivers)})")
         driver = drivers[mimic.driver_name]
-        if getattr(driver.joint, "mimic", None) is not None:
+        if driver.joint.mimic is not None:
             raise ModelError(f"body '{name}': joint '{joint.name}' mimics '{driver.joint.name}', which mimics "
                              f"'{driver.joint.mimic.driver_name}' itself; mimic the driving joint directly")
         if len(driver.joint.coordinates) != 1 or driver.joint.qdot() != driver.joint.speeds:
@@ -439,20 +439,17 @@ class System:
             raise ModelError(f"reduced: lock must be a dict {{joint name: value}}, got {type(lock).__name__}")
         names = {j.name for j in self.joints}
         unknown = sorted(set(lock) - names)
-        mimic = [b.joint.name for b in self.bodies if getattr(b.joint, "mimic", None) and b.joint.name in lock]
-        if mimic:
-            raise ModelError(f"reduced: {mimic} are mimic joints, without a coordinate of their own; lock "
-                             "their driving joint instead")
+        mimics = {b.joint.name: b.joint.mimic.driver_name for b in self.bodies if b.joint.mimic is not None}
+        if set(lock) & set(mimics):
+            raise ModelError(f"reduced: {sorted(set(lock) & set(mimics))} are mimic joints, without a coordinate "
+                             "of their own; lock their driving joint instead")
+        for mimic, driver in mimics.items():
+            if driver in lock:
+                raise ModelError(f"reduced: joint '{mimic}' mimics '{driver}'; it cannot follow a locked joint")
         if unknown:
             raise ModelError(f"reduced: unknown joints {unknown}; joints are {sorted(names)}")
         if self.loads or self.contacts or self.motors:
             raise ModelError("reduced: loads, contacts and motors are not carried over; add them to the reduced system")
-
-        mimics = {b.joint.name: b.joint.mimic.driver_name for b in self.bodies
-                  if isinstance(b.joint, OneAxis) and b.joint.mimic is not None}
-        for mimic, driver in mimics.items():
-            if driver in lock:
-                raise ModelError(f"reduced: joint '{mimic}' mimics '{driver}'; it cannot follow a locked joint")
 
         def weld(b):
             joint = b.joint
