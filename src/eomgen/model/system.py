@@ -441,11 +441,12 @@ class System:
         unknown = sorted(set(lock) - names)
         mimics = {b.joint.name: b.joint.mimic.driver_name for b in self.bodies if b.joint.mimic is not None}
         if set(lock) & set(mimics):
-            raise ModelError(f"reduced: {sorted(set(lock) & set(mimics))} are mimic joints, without a coordinate "
-                             "of their own; lock their driving joint instead")
+            raise ModelError(f"reduced: {sorted(set(lock) & set(mimics))} are mimic joints, without a "
+                             "coordinate of their own; lock their driving joint instead")
         for mimic, driver in mimics.items():
             if driver in lock:
-                raise ModelError(f"reduced: joint '{mimic}' mimics '{driver}'; it cannot follow a locked joint")
+                raise ModelError(f"reduced: joint '{mimic}' mimics '{driver}'; it cannot follow a locked "
+                                 "joint")
         if unknown:
             raise ModelError(f"reduced: unknown joints {unknown}; joints are {sorted(names)}")
         if self.loads or self.contacts or self.motors:
