@@ -9,7 +9,8 @@ from .kinematics import Kinematics
 from .methods import derive
 from .methods.kane import KaneEquations, kane
 from .model import (Cylindrical, DHLink, Fixed, FlexibleLink, FreeFlyer, Helical, Placement, Planar, Prismatic,
-                    Revolute, Spherical, System, Translation, Universal, from_dh, from_urdf, robots)
+                    Revolute, Spherical, System, Translation, Universal, from_dh, from_mjcf, from_urdf,
+                    robots)
 from .progress import quiet
 from .simplification import simplified
 from .worked import Solution, Step, solution
@@ -19,6 +20,6 @@ from .verify import verify
 
 __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed", "FlexibleLink", "FreeFlyer", "Helical",
            "Kinematics", "ModelError", "Placement", "Planar", "Prismatic", "Revolute", "Solution", "Spherical", "Step",
-           "System", "Translation", "Universal", "codegen", "derive", "from_dh",
+           "System", "Translation", "Universal", "codegen", "derive", "from_dh", "from_mjcf",
            "from_urdf", "integrate", "kane", "quiet", "random_states", "robots", "simplified", "solution",
            "tradeoff", "verify", "write_c", "write_module"]
