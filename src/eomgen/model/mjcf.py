@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
-from .mjcf_check import Equality, check_mjcf
+from .mjcf_check import NOT_MODELLED, Equality, check_mjcf
 from .system import System
 from .urdf import from_pinocchio, placement
 
@@ -30,22 +30,31 @@ def parse_mjcf(path, floating_base: bool | None = None):
         model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(path))
         free = model.njoints > 1 and model.joints[1].shortname() == "JointModelFreeFlyer"
         if floating_base and not free:
-            model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(path), pin.JointModelFreeFlyer())
+            model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(path),
+                                                                            pin.JointModelFreeFlyer())
     except Exception as exc:  # Pinocchio raises ValueError / RuntimeError with the parser's message
         raise ModelError(f"cannot read MJCF {path}: {exc}") from None
     if floating_base is False and free:
-        raise ModelError(f"MJCF {path.name}: joint '{model.names[1]}' is a free joint, but floating_base=False "
-                         "(leave floating_base as None to take the file's free joint)")
+        raise ModelError(f"MJCF {path.name}: joint '{model.names[1]}' is a free joint, but "
+                         "floating_base=False (leave floating_base as None to take the file's free joint)")
     if gravity is not None:
         model.gravity.linear = np.array(gravity)
-    passive = [(name, what, x) for what, values in (("damping", model.damping), ("frictionloss", model.friction))
+    forces = (("damping", model.damping), ("frictionloss", model.friction))
+    passive = [(name, what, x) for what, values in forces
                for joint, name in zip(model.joints[1:], model.names[1:])
                for x in values[joint.idx_v:joint.idx_v + joint.nv] if x]
     if passive:
         name, what, x = passive[0]
-        raise ModelError(f"MJCF {path.name}: joint '{name}': {what} {x:g} is a MuJoCo force that is not part of "
-                         "eomgen's equations (remove it, or model it as an eomgen load after the import)")
+        raise ModelError(f"MJCF {path.name}: joint '{name}': {what} {x:g} {NOT_MODELLED}")
     return model, _matched(model, constraints, equalities, path.name)
+
+
+def _frame(model, name: str, by: str):
+    """Pinocchio's frame of a body or a site (a joint may have the same name)."""
+    import pinocchio as pin
+
+    kind = pin.FrameType.BODY if by == "body" else pin.FrameType.OP_FRAME
+    return model.frames[model.getFrameId(name, kind)]
 
 
 def _joint_of(model, equality: Equality, which: int, owner: str) -> int:
@@ -54,11 +63,11 @@ def _joint_of(model, equality: Equality, which: int, owner: str) -> int:
     name = equality.first if which == 1 else equality.second
     if name is None:
         return 0
-    frame = model.frames[model.getFrameId(name)]
+    frame = _frame(model, name, equality.by)
     if equality.by == "body" and not frame.placement.isIdentity(1e-12):
-        raise ModelError(f"{owner}: equality '{equality.name}': body '{name}' is not at its joint's frame (a "
-                         "joint pos, or a body without a joint) and Pinocchio's parser would misplace the "
-                         "constraint on it: state the equality with sites (site1, site2)")
+        raise ModelError(f"{owner}: equality '{equality.name}': body '{name}' is not at its joint's frame "
+                         "(a joint pos, or a body without a joint) and Pinocchio's parser would misplace "
+                         "the constraint on it: state the equality with sites (site1, site2)")
     return frame.parentJoint
 
 
@@ -68,24 +77,26 @@ def _matched(model, constraints, equalities: list[Equality], owner: str) -> list
     import pinocchio as pin
 
     if len(constraints) != len(equalities):
-        raise ModelError(f"MJCF {owner}: Pinocchio's parser kept {len(constraints)} of the {len(equalities)} "
-                         "equalities (one per name; unnamed ones are named by their bodies): give each a "
-                         "name of its own")
+        raise ModelError(f"MJCF {owner}: Pinocchio's parser kept {len(constraints)} of the "
+                         f"{len(equalities)} equalities (one per name; it names unnamed ones after their "
+                         "bodies): give each a name of its own")
     left = {id(e): (e, _joint_of(model, e, 1, owner), _joint_of(model, e, 2, owner)) for e in equalities}
     pairs = []
     for c in constraints:
         kind = "point" if c.type == pin.ContactType.CONTACT_3D else "frame"
         for e, j1, j2 in left.values():
             which, where = e.key
-            expected = model.frames[model.getFrameId(where)].placement.translation if e.by == "site" else where
+            expected = _frame(model, where, "site").placement.translation if e.by == "site" else where
             found = (c.joint1_placement if which == 1 else c.joint2_placement).translation
-            if (e.kind, j1, j2) == (kind, c.joint1_id, c.joint2_id) and np.allclose(found, expected, 0, 1e-12):
+            same = (e.kind, j1, j2) == (kind, c.joint1_id, c.joint2_id)
+            if same and np.allclose(found, expected, 0, 1e-12):
                 pairs.append((e, c))
                 del left[id(e)]
                 break
         else:
-            raise ModelError(f"MJCF {owner}: cannot tell which equality Pinocchio's {kind} constraint between "
-                             f"joints '{model.names[c.joint1_id]}' and '{model.names[c.joint2_id]}' is")
+            joints = f"'{model.names[c.joint1_id]}' and '{model.names[c.joint2_id]}'"
+            raise ModelError(f"MJCF {owner}: cannot tell which equality Pinocchio's {kind} constraint "
+                             f"between joints {joints} is")
     return pairs
 
 

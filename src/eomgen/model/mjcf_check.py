@@ -1,14 +1,15 @@
 """What an MJCF file must hold before Pinocchio's parser reads it: the content that parser would drop or
-misread without a word (an axisangle's axis is not normalized), and the MuJoCo content eomgen's equations do not have, refused with the file,
+misread without a word, and the MuJoCo content eomgen's equations do not have, refused with the file,
 element and name.
 
 Found by experiment with Pinocchio 4.1's parser (`buildModelAndLegacyConstraintsFromMJCF`): it reads
-the first `<body>` of `<worldbody>` only (the others vanish with their joints), skips `<frame>` and
-what is inside it, does not follow `<include>`, ignores `<option gravity>` (read here instead), keeps
-an equality with active="false", skips every equality but connect and weld, reads "1 0" as the anchor
-1 0 0, takes site2 of a connect between a body and a site as the world, and gives an unknown site1 a
-joint index of 2⁶³. Passive forces (joint stiffness, gravity compensation, fluid forces) are MuJoCo's
-and not part of M u̇ + b + g = τ; tendons neither. Actuators are not read: τ is the generalized force."""
+the first `<body>` of `<worldbody>` only (the others vanish with their joints) and drops its pose when
+it has no joint, skips `<frame>` and what is inside it, does not follow `<include>`, does not normalize
+an axisangle's axis, ignores `<option gravity>` (read here instead), keeps an equality with
+active="false", skips every equality but connect and weld, reads "1 0" as the anchor 1 0 0, takes
+site2 of a connect between a body and a site as the world, and gives an unknown site1 a joint index of
+2⁶³. Passive forces (joint stiffness, gravity compensation, fluid forces) are MuJoCo's and not part of
+M u̇ + b + g = τ; tendons neither. Actuators are not read: τ is the generalized force."""
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
@@ -19,6 +20,8 @@ from ..errors import ModelError
 
 _SKIPPED = ("include", "frame", "replicate", "attach", "composite", "flexcomp", "flex", "skin")
 _EQUALITIES = ("connect", "weld")
+NOT_MODELLED = ("is a MuJoCo force that is not part of eomgen's equations (remove it, or model it as an "
+                "eomgen load after the import)")
 
 
 @dataclass(frozen=True)
@@ -45,16 +48,15 @@ def numbers(element: ET.Element, name: str, count: int, owner: str) -> list[floa
     except ValueError:
         raise ModelError(f"{owner}: {name}={text!r} is not {count} numbers") from None
     if len(values) != count or not all(abs(v) < float("inf") for v in values):
-        raise ModelError(f"{owner}: {name}={text!r} must be {count} finite numbers (Pinocchio's parser would "
-                         "fill missing ones with zeros)")
+        raise ModelError(f"{owner}: {name}={text!r} must be {count} finite numbers (Pinocchio's parser "
+                         "would fill missing ones with zeros)")
     return values
 
 
 def _nonzero(element: ET.Element, name: str, count: int, owner: str) -> None:
     values = numbers(element, name, count, owner)
     if values is not None and any(values):
-        raise ModelError(f"{owner}: {name}={element.get(name)!r} is a MuJoCo force that is not part of eomgen's "
-                         "equations (remove it, or model it as an eomgen load after the import)")
+        raise ModelError(f"{owner}: {name}={element.get(name)!r} {NOT_MODELLED}")
 
 
 def _read(path: Path) -> ET.Element:
@@ -96,13 +98,18 @@ def _check_tree(root: ET.Element, owner: str) -> ET.Element:
         names = [b.get("name", "(unnamed)") for b in bodies]
         raise ModelError(f"{owner}: <worldbody> holds {len(bodies)} bodies {names}; Pinocchio's MJCF parser "
                          "reads one tree (the first body and what is below it): put them below one body")
+    pose = [a for a in ("pos", "quat", "euler", "axisangle", "xyaxes", "zaxis") if a in bodies[0].attrib]
+    if pose and not bodies[0].findall("joint") + bodies[0].findall("freejoint"):
+        raise ModelError(f"{owner}: body '{bodies[0].get('name', '(unnamed)')}' is fixed to the world and "
+                         f"has {' and '.join(pose)}, which Pinocchio's parser drops: leave the root body at "
+                         "the world origin, unrotated (its children carry the offsets)")
     for body in bodies[0].iter("body"):
         where = f"{owner}: body '{body.get('name', '(unnamed)')}'"
         _nonzero(body, "gravcomp", 1, where)
         joints = body.findall("joint") + body.findall("freejoint")
         if len(joints) > 1:
-            raise ModelError(f"{where} has {len(joints)} joints {[j.get('name', '') for j in joints]}; eomgen "
-                             "takes one joint per body (put each joint on a body of its own)")
+            raise ModelError(f"{where} has {len(joints)} joints {[j.get('name', '') for j in joints]}; "
+                             "eomgen takes one joint per body (put each joint on a body of its own)")
     return bodies[0]
 
 
@@ -151,5 +158,11 @@ def check_mjcf(path) -> tuple[list[float] | None, list[Equality]]:
     bodies = {b.get("name") for b in tree.iter("body")}
     sites = {s.get("name") for s in tree.iter("site")}
     equalities = [_equality(e, bodies, sites, owner) for group in root.findall("equality") for e in group]
+    names = [e.name for e in equalities]
+    for name in names:
+        if names.count(name) > 1:
+            raise ModelError(f"{owner}: two equalities are named '{name}' (an unnamed one is named after "
+                             "its bodies or sites), and Pinocchio's parser keeps one per name: name each of "
+                             "them")
     gravity = [numbers(o, "gravity", 3, f"{owner}: <option>") for o in root.findall("option")]
     return next((g for g in reversed(gravity) if g is not None), None), equalities
