@@ -242,6 +242,7 @@ BAD = {
     "frame": (dict(body='<frame pos="1 0 0"><body name="c"/></frame>'), "<frame> is not read"),
     "include": (dict(top='<include file="other.xml"/>'), "<include> is not read"),
     "axisangle": (dict(body='<site name="s" axisangle="1 1 0 30"/>'), "give a unit axis"),
+    "eulerseq": (dict(top='<compiler eulerseq="XYZ"/>'), "upper case"),
 }
 
 

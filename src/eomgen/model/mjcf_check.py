@@ -5,11 +5,12 @@ element and name.
 Found by experiment with Pinocchio 4.1's parser (`buildModelAndLegacyConstraintsFromMJCF`): it reads
 the first `<body>` of `<worldbody>` only (the others vanish with their joints) and drops its pose when
 it has no joint, skips `<frame>` and what is inside it, does not follow `<include>`, does not normalize
-an axisangle's axis, ignores `<option gravity>` (read here instead), keeps an equality with
-active="false", skips every equality but connect and weld, reads "1 0" as the anchor 1 0 0, takes
-site2 of a connect between a body and a site as the world, and gives an unknown site1 a joint index of
-2⁶³. Passive forces (joint stiffness, gravity compensation, fluid forces) are MuJoCo's and not part of
-M u̇ + b + g = τ; tendons neither. Actuators are not read: τ is the generalized force."""
+an axisangle's axis, reads an upper-case eulerseq as lower-case, ignores `<option gravity>` (read here
+instead), keeps an equality with active="false", skips every equality but connect and weld, reads
+"1 0" as the anchor 1 0 0, takes site2 of a connect between a body and a site as the world, and gives
+an unknown site1 a joint index of 2⁶³. Passive forces (joint stiffness, gravity compensation, fluid
+forces) are MuJoCo's and not part of M u̇ + b + g = τ; tendons neither. Actuators are not read: τ is
+the generalized force."""
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
@@ -85,6 +86,11 @@ def _check_tree(root: ET.Element, owner: str) -> ET.Element:
         if element.tag == "joint" or element.tag == "default":
             for joint in [element] if element.tag == "joint" else element.findall("joint"):
                 _nonzero(joint, "stiffness", 1, f"{owner}: joint '{joint.get('name', '(default)')}'")
+    for compiler in root.findall("compiler"):
+        if compiler.get("eulerseq", "").lower() != compiler.get("eulerseq", ""):
+            raise ModelError(f"{owner}: <compiler eulerseq={compiler.get('eulerseq')!r}>: Pinocchio's "
+                             "parser takes upper case (axes fixed) as lower case (axes rotating with the "
+                             "frame): give the angles for a lower-case sequence")
     for tendon in root.findall("tendon"):
         if len(tendon):
             raise ModelError(f"{owner}: <tendon> {tendon[0].tag} '{tendon[0].get('name', '')}': tendons are "
