@@ -213,6 +213,30 @@ def mjcf(tmp_path: Path, body: str = "", equality: str = "", top: str = "", name
     return path
 
 
+def test_equalities_keep_their_names_and_placements(tmp_path):
+    """Named and unnamed, body and site, connect and weld, to the world: each loop is named after its
+    equality and its frames sit where the file says, in the order of Pinocchio's constraint models."""
+    path = mjcf(tmp_path, equality="""<connect name="z" body1="b" anchor="0.1 0.2 0.3"/>
+        <connect body1="b" body2="a" anchor="0.1 0.2 0.31"/><connect site1="sb" site2="sa"/>
+        <weld name="w" body1="a" body2="b" relpose="0.3 0.2 0.1 1 0 0 0"/><weld body1="b"/>""")
+    system = eg.from_mjcf(path)
+    _, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(path))
+    sizes = {pin.ContactType.CONTACT_3D: "point", pin.ContactType.CONTACT_6D: "frame"}
+    assert [loop.kind for loop in system.loops] == [sizes[c.type] for c in constraints]
+    loops = {loop.name: loop for loop in system.loops}
+    assert sorted(loops) == ["b-a", "b-world", "sb-sa", "w", "z"]
+    expected = {"z_1": ("b", [0.1, 0.2, 0.3]), "b-a_1": ("b", [0.1, 0.2, 0.31]),
+                "sb-sa_1": ("b", [0.1, 0, 0]), "sb-sa_2": ("a", [0, 0, 0.2]), "w_1": ("a", [0.3, 0.2, 0.1]),
+                "w_2": ("b", [0, 0, 0])}
+    for name, (body, translation) in expected.items():
+        frame = system.frames[name]
+        assert frame.body.name == body
+        np.testing.assert_allclose(np.array(frame.placement.translation, float).ravel(), translation,
+                                   atol=1e-15)
+    assert system.frames["z_2"].body is None and system.frames["b-world_2"].body is None
+    assert [loops[n].kind for n in ("z", "b-a", "sb-sa", "w", "b-world")] == ["point"] * 3 + ["frame"] * 2
+
+
 BAD = {
     "joint equality": (dict(equality='<joint joint1="ja" joint2="jb"/>'), "a joint equality is not handled"),
     "tendon equality": (dict(equality='<tendon tendon1="t"/>'), "a tendon equality is not handled"),
