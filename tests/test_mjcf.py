@@ -14,6 +14,8 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from scipy.linalg import block_diag
 
 import eomgen as eg
@@ -235,6 +237,25 @@ def test_equalities_keep_their_names_and_placements(tmp_path):
                                    atol=1e-15)
     assert system.frames["z_2"].body is None and system.frames["b-world_2"].body is None
     assert [loops[n].kind for n in ("z", "b-a", "sb-sa", "w", "b-world")] == ["point"] * 3 + ["frame"] * 2
+
+
+ANCHOR = st.lists(st.floats(-2, 2, allow_subnormal=False), min_size=3, max_size=3)
+
+
+@settings(max_examples=25, deadline=None, derandomize=True, database=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(anchor=ANCHOR, relpose=ANCHOR)
+def test_anchors_as_written(tmp_path, anchor, relpose):
+    """Any anchor and relpose, as Python writes the floats: the loops' frames sit there, to the 1e-14
+    within which eomgen takes a number for 0 or ±1 (the equalities are told apart among Pinocchio's
+    constraints by these numbers)."""
+    a, r = " ".join(map(repr, anchor)), " ".join(map(repr, relpose))
+    system = eg.from_mjcf(mjcf(tmp_path, equality=f"""<connect name="c" body1="b" body2="a" anchor="{a}"/>
+        <connect name="d" body1="b" body2="a" anchor="{r}"/>
+        <weld name="w" body1="a" body2="b" relpose="{r} 0.6 0 0.8 0"/>"""))
+    for frame, where in (("c_1", anchor), ("d_1", relpose), ("w_1", relpose)):
+        np.testing.assert_allclose(np.array(system.frames[frame].placement.translation, float).ravel(),
+                                   where, rtol=1e-15, atol=1e-14)
 
 
 BAD = {

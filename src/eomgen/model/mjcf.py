@@ -72,8 +72,8 @@ def _joint_of(model, equality: Equality, which: int, owner: str) -> int:
 
 
 def _matched(model, constraints, equalities: list[Equality], owner: str) -> list:
-    """[(equality, Pinocchio's constraint)] in Pinocchio's order (it sorts the equalities by name, and
-    keeps one of those with the same name or, unnamed, the same bodies)."""
+    """[(equality, Pinocchio's constraint)] in Pinocchio's order (its own, by name; it keeps one
+    equality per name, and names unnamed ones after their bodies in a way of its own)."""
     import pinocchio as pin
 
     if len(constraints) != len(equalities):

@@ -28,8 +28,8 @@ NOT_MODELLED = ("is a MuJoCo force that is not part of eomgen's equations (remov
 @dataclass(frozen=True)
 class Equality:
     """A connect ("point") or weld ("frame") equality of the file, between body1 (or site1) and body2
-    (or site2; None: the world); `key` is where Pinocchio puts a number of the file in the constraint's
-    placement: (1 or 2, the translation of joint1_placement or joint2_placement)."""
+    (or site2; None: the world); `key` tells its constraint among Pinocchio's: (1 or 2, the translation of
+    joint1_placement or joint2_placement, which is the file's anchor or relpose, or site1's name)."""
 
     name: str
     kind: str
