@@ -186,13 +186,22 @@ def test_loops_equal_pinocchio(tmp_path, path, extra):
 
 def test_weld_loop_equals_pinocchio(tmp_path):
     """The two arms welded at their tips (1 degree of freedom left), at closed states: a weld's 6 rows
-    are Pinocchio's 6D constraint (force, then moment) in world axes."""
+    are Pinocchio's 6D constraint (force, then moment) in world axes. At open states the linear rows
+    differ by ω_2 × (p_1 − p_2): eomgen takes each body's velocity at its own frame's origin, Pinocchio
+    both at frame 1's."""
     path = variant(tmp_path, SPATIAL, *WELD)
     system = eg.from_mjcf(path)
     assert [(loop.name, loop.kind) for loop in system.loops] == [("tips", "frame")]
     model, data, constraints, datas = pinocchio_loops(path)
     f = eg.codegen(eg.derive(system))
     rng = np.random.default_rng(9)
+    c = constraints[0]
+    for q in eg.random_states(system, 3, rng)[0]:  # open: Pinocchio's force rows are at frame 1's origin
+        J = to_world(model, data, constraints, q) @ jacobian(model, data, constraints, datas, q)
+        A, B = data.oMi[c.joint1_id] * c.joint1_placement, data.oMi[c.joint2_id] * c.joint2_placement
+        J_w2 = pin.getJointJacobian(model, data, c.joint2_id, LWA)[3:]
+        close(f.contact_jacobian(q), J + np.vstack([np.cross(J_w2.T, A.translation - B.translation).T,
+                                                    np.zeros_like(J_w2)]), 1e-12)
     for _ in range(3):
         q = assembled(model, data, constraints, datas,
                       pin.integrate(model, pin.neutral(model), rng.uniform(-0.2, 0.2, model.nv)))
