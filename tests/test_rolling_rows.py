@@ -4,6 +4,7 @@ in the chain x, y, z, ψ (about z), φ (about the turned x), θ (about the leane
 contact moves with v_centre + ω × c; J̇u = d/dt (J u) by differences."""
 import numpy as np
 import pytest
+import sympy as sp
 
 import eomgen as eg
 from eomgen.errors import ModelError
@@ -71,5 +72,8 @@ def test_bad_rolling_disks_are_refused():
         system.add_rolling("wheel", radius=R)
     with pytest.raises(ModelError, match="unknown body"):
         system.add_rolling("tyre", radius=R)
+    with pytest.raises(ModelError, match="sign of gravity's z component g is not known"):
+        disk(gravity=(0, 0, sp.Symbol("g", real=True)))
+    assert disk(gravity=(0, 0, -sp.Symbol("g", positive=True))).rolling[0].ground.rotation == sp.eye(3)
     with pytest.raises(ModelError, match="axis must not be zero"):
         system.add_rolling("wheel", radius=R, axis=(0, 0, 0), name="third")

@@ -364,7 +364,7 @@ class System:
         if radius.is_zero:
             raise ModelError(f"rolling disk '{name}': radius must be positive")
         axis = unit(vector3(axis, f"rolling disk '{name}': axis"), f"rolling disk '{name}': axis")
-        ground = default_ground(self.gravity) if ground is None else ground
+        ground = default_ground(self.gravity, name) if ground is None else ground
         if not isinstance(ground, Placement):
             raise ModelError(f"rolling disk '{name}': ground must be an eomgen.Placement (its xy plane)")
         e_n = (self._rotation_at_zero(body) * axis).dot(ground.rotation[:, 2])
