@@ -120,3 +120,91 @@ def test_bad_holonomic_input():
         eg.kane(system, **{**args, "holonomic": ["q1", 0]})
     with pytest.raises(eg.ModelError, match="assemble: these Kane's equations have no holonomic constraints"):
         eg.codegen(eg.kane(system)).assemble(np.zeros(3))
+
+
+# --- floating bases: a body on a free flyer or a ball joint, with an arm on a revolute about its x -------
+BASES = {"free_flyer_quaternion": (lambda: eg.FreeFlyer("root"), "body"),
+         "free_flyer_euler": (lambda: eg.FreeFlyer("root", "euler"), "rates"),
+         "spherical_quaternion": (lambda: eg.Spherical("ball"), "body"),
+         "spherical_zyx": (lambda: eg.Spherical("ball", "zyx"), "rates")}
+BASE_I = sp.Matrix([[0.3, 0.01, 0.02], [0.01, 0.4, 0.03], [0.02, 0.03, 0.5]])
+ARM_AT, ARM_COM, BASE_COM = (0.3, -0.1, 0.2), (0.2, 0, 0.1), (0.1, 0.2, 0.3)
+
+
+def floating(joint) -> eg.System:
+    s = eg.System(gravity=(0, 0, -9.81))
+    base = s.add_body("base", joint=joint, mass=2.0, com=BASE_COM, inertia=BASE_I)
+    s.add_body("arm", parent=base, joint=eg.Revolute("r", axis=(1, 0, 0)), mass=0.7, com=ARM_COM,
+               inertia=sp.diag(0.1, 0.2, 0.15), placement=eg.Placement(translation=ARM_AT))
+    return s
+
+
+def floating_sympy(free: bool, speeds: str):
+    """sympy's KanesMethod of `floating`: body-fixed ZYX angles (and the position if `free`); speeds
+    "body" (the base's velocity and angular velocity in base axes) or "rates" (q̇). Returns (km, q, u)."""
+    N = me.ReferenceFrame("N")
+    angles, r = me.dynamicsymbols("psi theta phi"), me.dynamicsymbols("r")
+    position = me.dynamicsymbols("x y z") if free else []
+    q = [*position, *angles, r]
+    u = me.dynamicsymbols(f"u1:{len(q) + 1}")
+    k = len(position)
+    B = N.orientnew("B", "Body", angles, "ZYX")
+    rates = [x.diff() for x in q]
+    omega = [B.ang_vel_in(N).dot(e) for e in (B.x, B.y, B.z)]  # in the angle rates
+    axes = (B.x, B.y, B.z) if speeds == "body" else (N.x, N.y, N.z)
+    if speeds == "body":
+        kd = [ui - w for ui, w in zip(u[k:k + 3], omega)]
+        kd += list(sp.Matrix(rates[:k]) - N.dcm(B) * sp.Matrix(u[:k])) if free else []
+        B.set_ang_vel(N, sum((ui * e for ui, e in zip(u[k:k + 3], axes)), me.Vector(0)))
+    else:
+        kd = [ui - x for ui, x in zip(u[:k + 3], rates[:k + 3])]
+        B.set_ang_vel(N, sum((w.xreplace(dict(zip(rates, u))) * e for w, e in zip(omega, (B.x, B.y, B.z))),
+                             me.Vector(0)))
+    kd.append(u[-1] - rates[-1])
+    O = me.Point("O")
+    O.set_vel(N, 0)
+    P = O.locatenew("P", sum((x * e for x, e in zip(position, (N.x, N.y, N.z))), me.Vector(0)))
+    P.set_vel(N, sum((ui * e for ui, e in zip(u[:k], axes)), me.Vector(0)))
+    A = B.orientnew("A", "Axis", [r, B.x])
+    A.set_ang_vel(B, u[-1] * B.x)
+    in_B = lambda v, F: sum((c * e for c, e in zip(v, (F.x, F.y, F.z))), me.Vector(0))  # noqa: E731
+    hinge = P.locatenew("hinge", in_B(ARM_AT, B))
+    hinge.v2pt_theory(P, N, B)
+    G_b, G_a = P.locatenew("G_b", in_B(BASE_COM, B)), hinge.locatenew("G_a", in_B(ARM_COM, A))
+    G_b.v2pt_theory(P, N, B)
+    G_a.v2pt_theory(hinge, N, A)
+    I = BASE_I
+    bodies = [me.RigidBody("base", G_b, B, 2.0, (me.inertia(B, I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[1, 2],
+                                                              I[0, 2]), G_b)),
+              me.RigidBody("arm", G_a, A, 0.7, (me.inertia(A, 0.1, 0.2, 0.15), G_a))]
+    km = me.KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=kd)
+    km.kanes_equations(bodies, [(G_b, -2.0 * 9.81 * N.z), (G_a, -0.7 * 9.81 * N.z)])
+    return km, q, u
+
+
+@pytest.mark.parametrize("name", BASES)
+def test_floating_base_equals_sympy_recursive_and_pinocchio(name):
+    """eg.kane on a free-flyer or ball-joint base (w = u: the base twist in base axes for a quaternion,
+    the angle rates for Euler angles): M̃, f̃ equal sympy's KanesMethod (ZYX angles of the same rotation);
+    u̇ equals the recursive method's and Pinocchio's ABA (no ZYX free flyer in Pinocchio)."""
+    joint, speeds = BASES[name]
+    system = floating(joint())
+    f = eg.codegen(eg.kane(system))
+    recursive = eg.codegen(eg.derive(system, method="recursive"))
+    km, qs, us = floating_sympy(name.startswith("free"), speeds)
+    model = None if name == "free_flyer_euler" else to_pinocchio(system)
+    q, u, _ = eg.random_states(system, 3, np.random.default_rng(3))
+    k = 3 if name.startswith("free") else 0
+    for qi, ui in zip(q, u):
+        angles = Rotation.from_quat(qi[k:k + 4]).as_euler("ZYX") if speeds == "body" else qi[k:k + 3]
+        values = {**dict(zip(qs, [*qi[:k], *angles, qi[-1]])), **dict(zip(us, ui))}
+        np.testing.assert_allclose(f.mass_matrix(qi, ui), K.number(km.mass_matrix, values), rtol=1e-12,
+                                   atol=1e-12)
+        np.testing.assert_allclose(f.forcing(qi, ui), K.number(km.forcing, values)[:, 0], rtol=1e-11,
+                                   atol=1e-11)
+        ud = np.linalg.solve(f.mass_matrix(qi, ui), f.forcing(qi, ui))
+        np.testing.assert_allclose(ud, recursive.forward_dynamics(qi, ui), rtol=1e-10, atol=1e-10)
+        if model is not None:
+            reference = pin.aba(model, model.createData(), pinocchio_configuration(system, qi), ui,
+                                np.zeros(model.nv))
+            np.testing.assert_allclose(ud, reference, rtol=1e-10, atol=1e-10)
