@@ -177,8 +177,9 @@ def bicycle():
     return system, dict(nonholonomic=[*rear_slip[:2], *front_slip], independent=[qd[3], qd[5], qd[6]]), height
 
 
-# --- a planar four-bar: crank, coupler and rocker on revolutes about z, the rocker's tip pinned at (d, 0) ---
-BAR = dict(l1=0.2, l2=0.5, l3=0.4, d=0.45, m1=0.3, m2=0.8, m3=0.6, I1=0.002, I2=0.02, I3=0.01, tau=0.5, g=9.81)
+# --- a planar four-bar: crank, coupler and rocker on revolutes about z, the rocker's tip pinned at (d, 0) --
+BAR = dict(l1=0.2, l2=0.5, l3=0.4, d=0.45, m1=0.3, m2=0.8, m3=0.6, I1=0.002, I2=0.02, I3=0.01, tau=0.5,
+           g=9.81)
 
 
 def closure(q, l1=BAR["l1"], l2=BAR["l2"], l3=BAR["l3"], d=BAR["d"]):

@@ -81,7 +81,8 @@ def test_four_bar_simulation_keeps_the_loop_and_energy():
         e = np.c_[np.cos(angles[:, i]), np.sin(angles[:, i])]
         e_perp = np.c_[-e[:, 1], e[:, 0]] * rates[:, i:i + 1]
         G, v_G = tip + length / 2 * e, tip_v + length / 2 * e_perp
-        energies = energies + 0.5 * m * np.sum(v_G**2, 1) + 0.5 * I * rates[:, i]**2 + m * K.BAR["g"] * G[:, 1]
+        energies = (energies + 0.5 * m * np.sum(v_G**2, 1) + 0.5 * I * rates[:, i]**2
+                    + m * K.BAR["g"] * G[:, 1])
         tip, tip_v = tip + length * e, tip_v + length * e_perp
     assert np.ptp(energies) < 1e-9 * np.max(np.abs(energies))
     assert np.ptp(q[:, 0]) > 1  # it moved
@@ -105,20 +106,20 @@ def test_closed_forms_of_a_line():
 def test_bad_holonomic_input():
     system, args = K.four_bar()
     q, u = system.q, system.u
-    with pytest.raises(eg.ModelError, match="2 holonomic constraints need as many distinct dependent_coord"):
+    with pytest.raises(eg.ModelError, match=r"2 holonomic constraints and the rolling disks \[\]"):
         eg.kane(system, **{**args, "dependent_coordinates": [q[1]]})
-    with pytest.raises(eg.ModelError, match=r"dependent_coordinates \[z\] are not coordinates of the system"):
+    with pytest.raises(eg.ModelError, match=r"dependent_coordinates \[z\] are not coordinates of"):
         eg.kane(system, **{**args, "dependent_coordinates": [q[1], sp.Symbol("z")]})
     with pytest.raises(eg.ModelError, match="holonomic constraint 1 depends on the speeds"):
         eg.kane(system, **{**args, "holonomic": [args["holonomic"][0], u[0]]})
-    with pytest.raises(eg.ModelError, match="2 holonomic and 0 nonholonomic constraints need as many dep"):
+    with pytest.raises(eg.ModelError, match="2 holonomic and 0 nonholonomic constraints and 0 rolling"):
         eg.kane(system, **{**args, "independent": list(u[:2])})
-    with pytest.raises(eg.ModelError, match=r"∂\(holonomic constraints\)/∂\(dependent coordinates\) is not inv"):
+    with pytest.raises(eg.ModelError, match=r"∂\(holonomic constraints\)/∂\(dependent coordinates\) is"):
         eg.kane(system, holonomic=[sp.cos(q[0]) - 0.5, sp.sin(q[2]) - 0.1], dependent_coordinates=q[1:],
                 independent=[u[0]])
-    with pytest.raises(eg.ModelError, match="kane: holonomic constraint 0: expected a number or a sympy"):
+    with pytest.raises(eg.ModelError, match="kane: holonomic constraint 0: expected a number"):
         eg.kane(system, **{**args, "holonomic": ["q1", 0]})
-    with pytest.raises(eg.ModelError, match="assemble: these Kane's equations have no holonomic constraints"):
+    with pytest.raises(eg.ModelError, match="assemble: these Kane's equations have no holonomic"):
         eg.codegen(eg.kane(system)).assemble(np.zeros(3))
 
 

@@ -29,6 +29,7 @@ import sympy as sp
 from ..display import kane_markdown, kane_math
 from ..eom import ClosedForms, EquationsOfMotion
 from ..errors import ModelError
+from ..constraints import rolling_rows
 from ..kinematics import Kinematics
 from ..model import FlexibleLink
 from ..model.system import System
@@ -270,13 +271,22 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     (its twist in child axes), whose coordinates follow from q̇ = system.qdot(q, u).
 
     `holonomic`: configuration constraints f(q) = 0 with as many `dependent_coordinates` (symbols of q);
-    their time derivatives ḟ = ∂f/∂q q̇(q, u) join the velocity constraints before the nonholonomic ones,
-    so that there are len(holonomic) + len(nonholonomic) dependent speeds. With new speeds w, u = −Y⁻¹ (K w
-    + k0) is put in ḟ in closed form (pivots of Y proven nonzero). The rhs integrates every q."""
+    their time derivatives ḟ = ∂f/∂q q̇(q, u) join the velocity constraints before the nonholonomic ones.
+    The system's rolling disks (`System.add_rolling`) are taken as they are: each disk's height residual
+    joins the holonomic constraints after the given ones (name one dependent coordinate more per disk), the
+    normal velocity of its contact point (J_n u) their derivatives, its two no-slip rows (J_t u) the
+    nonholonomic constraints after the given ones. So there are len(holonomic) + len(nonholonomic)
+    + 3 × disks dependent speeds. Constraints in the joint speeds u (ḟ, the disks' rows) are written in new
+    speeds w through u = −Y⁻¹ (K w + k0) in closed form (pivots of Y proven nonzero; w = u needs none).
+    Contacts and loops are refused (write a loop as holonomic constraints). The rhs integrates every q."""
     if not isinstance(system, System):
         raise ModelError(f"kane: expected an eomgen.System, got {type(system).__name__}")
     if any(isinstance(j, FlexibleLink) for j in system.joints):
         raise ModelError("kane: flexible links are not supported")
+    if system.contacts or system.loops:
+        raise ModelError(f"kane: contacts {[c.name for c in system.contacts]} and loops "
+                         f"{[c.name for c in system.loops]} are not taken: write loop closures as holonomic "
+                         "constraints and contacts as nonholonomic ones")
     q, u = list(system.q), list(system.u)
     n = len(u)
     speeds = u if speeds is None else _symbols(speeds, "speeds")
@@ -284,8 +294,8 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
         raise ModelError(f"kane: give {n} distinct speeds, got {speeds}")
     kinematic_equations, nonholonomic, holonomic = (
         None if exprs is None else _expressions(system, exprs, what, speeds)
-        for exprs, what in ((kinematic_equations, "kinematic equation"), (nonholonomic, "nonholonomic constraint"),
-                            (holonomic, "holonomic constraint")))
+        for exprs, what in ((kinematic_equations, "kinematic equation"),
+                            (nonholonomic, "nonholonomic constraint"), (holonomic, "holonomic constraint")))
     if kinematic_equations is None:
         if speeds != u:
             raise ModelError("kane: new speeds need kinematic_equations (Y u + K w + k0 = 0, u = system.u)")
@@ -307,9 +317,11 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     if unknown:
         raise ModelError(f"kane: independent speeds {unknown} are not among the speeds {speeds}")
     dependent = [s for s in speeds if s not in independent]
-    if len(dependent) != len(holonomic) + len(nonholonomic):
-        raise ModelError(f"kane: {len(holonomic)} holonomic and {len(nonholonomic)} nonholonomic constraints "
-                         f"need as many dependent speeds, got {dependent}")
+    disks = len(system.rolling)
+    if len(dependent) != len(holonomic) + len(nonholonomic) + 3 * disks:
+        raise ModelError(f"kane: {len(holonomic)} holonomic and {len(nonholonomic)} nonholonomic "
+                         f"constraints and {disks} rolling disks (3 rows each) need as many dependent speeds, "
+                         f"got {dependent}")
     for i, e in enumerate(nonholonomic):
         stray = sp.sympify(e).free_symbols & (set(u) - set(speeds))
         if stray:
@@ -323,16 +335,19 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     sub = kin.sub
     eom = projected_newton_euler.derive(kin)
     f = sub.add_matrix(sp.Matrix(len(holonomic), 1, holonomic))
-    F_q = configuration_jacobian(sub, f, q)
+    in_u = [(configuration_jacobian(sub, f, q) * system.qdot.jacobian(u), sp.zeros(f.rows, 1), None)]
+    wheels = [rolling_rows(kin, disk) for disk in system.rolling]  # in u: (A, a0, A rates)
+    in_u += [(r.J[2:, :], sp.zeros(1, 1), r.Jdot_u[2:, :]) for r in wheels]  # ḟ = ∂f/∂q q̇(q, u)
+    slip = [(r.J[:2, :], sp.zeros(2, 1), r.Jdot_u[:2, :]) for r in wheels]
+    f = f.col_join(sp.Matrix(len(wheels), 1, [r.residual[0] for r in wheels]))
     rows = [(sp.zeros(0, n), sp.zeros(0, 1), sp.zeros(0, 1))]  # (C, c0, rates) of each kind
-    if holonomic:  # ḟ = ∂f/∂q q̇(q, u)
-        rows += _in_speeds(kin, [(F_q * system.qdot.jacobian(u), sp.zeros(len(holonomic), 1), None)],
-                           speeds, (Y, K, k0))
+    rows += _in_speeds(kin, in_u, speeds, (Y, K, k0)) if f.rows else []
     if nonholonomic:
         C, c0 = _linear(nonholonomic, speeds, "nonholonomic constraint")
         rows.append((C, c0, kin.time_derivative(sp.Matrix(nonholonomic))))
+    rows += _in_speeds(kin, slip, speeds, (Y, K, k0)) if slip else []
     C, c0 = (sp.Matrix.vstack(*(r[i] for r in rows)) for i in (0, 1))
-    F_dep = F_q[:, [q.index(x) for x in dependent_coordinates]]
+    F_dep = configuration_jacobian(sub, f, dependent_coordinates)
     Cd = sub.add_matrix(C[:, [speeds.index(s) for s in dependent]])
     Yn = sub.add_matrix(Y)
     _check_invertible(sub, {"∂(holonomic constraints)/∂(dependent coordinates)": F_dep,
@@ -352,21 +367,22 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
 
 
 def _dependent_coordinates(system: System, holonomic: list, coordinates, speeds: list) -> list[sp.Symbol]:
-    """The dependent coordinates, one per holonomic constraint, checked: symbols of q, distinct; the
-    constraints in q and parameters only."""
+    """The dependent coordinates, one per holonomic constraint and rolling disk, checked: symbols of q,
+    distinct; the constraints in q and parameters only."""
     coordinates = [] if coordinates is None else _symbols(coordinates, "dependent_coordinates")
     for i, e in enumerate(holonomic):
         stray = e.free_symbols & (set(system.u) | set(speeds))
         if stray:
-            raise ModelError(f"kane: holonomic constraint {i} depends on the speeds {sorted(stray, key=str)}: "
-                             "write it in q (configuration constraints f(q) = 0)")
+            raise ModelError(f"kane: holonomic constraint {i} depends on the speeds "
+                             f"{sorted(stray, key=str)}: write it in q (configuration constraints f(q) = 0)")
     q = list(system.q)
     strangers = [x for x in coordinates if x not in q]
     if strangers:
         raise ModelError(f"kane: dependent_coordinates {strangers} are not coordinates of the system {q}")
-    if len(set(coordinates)) != len(coordinates) or len(coordinates) != len(holonomic):
-        raise ModelError(f"kane: {len(holonomic)} holonomic constraints need as many distinct "
-                         f"dependent_coordinates, got {coordinates}")
+    disks = [d.name for d in system.rolling]
+    if len(set(coordinates)) != len(coordinates) or len(coordinates) != len(holonomic) + len(disks):
+        raise ModelError(f"kane: {len(holonomic)} holonomic constraints and the rolling disks {disks} (one "
+                         f"height each) need as many distinct dependent_coordinates, got {coordinates}")
     return sorted(coordinates, key=q.index)
 
 
