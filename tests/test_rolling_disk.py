@@ -1,7 +1,8 @@
-"""The rolling disk built with add_rolling (examples/rolling_disk.py: rails x, y, z, yaw, lean, spin; z and
-ẋ, ẏ, ż dependent) against sympy's KanesMethod of the classic disk (yaw, lean, spin; the contact point at
-rest, the centre R above it along the lean frame's z); upright rolling stable above ω² = g/(3R) by
-simulation (the linearized lean equation by hand gives the amplitude); bad input."""
+"""The rolling disk built with add_rolling (examples/rolling_disk.py: rails x, y, z, yaw, lean, spin; z
+and ẋ, ẏ, ż dependent; and on a free-flyer base) against sympy's KanesMethod of the classic disk (yaw,
+lean, spin; the contact point at rest, the centre R above it along the lean frame's z); upright rolling
+stable above ω² = g/(3R) by simulation (the linearized lean equation by hand gives the amplitude); bad
+input."""
 import sys
 from pathlib import Path
 
@@ -9,6 +10,7 @@ import numpy as np
 import pytest
 import sympy as sp
 import sympy.physics.mechanics as me
+from scipy.spatial.transform import Rotation
 
 import eomgen as eg
 import kane_systems as K
@@ -17,27 +19,48 @@ sys.path.insert(0, str(Path(__file__).parents[1] / "examples"))
 from rolling_disk import LEAN, VALUES, critical_spin, roll, rolling_disk  # noqa: E402
 
 
-def classic_disk_sympy():
-    """sympy's KanesMethod of the disk: q = (yaw, lean, spin), speeds their rates, R = Rz Rx Ry; the
-    contact point has zero velocity (no slip), the centre G = contact + R e_z of the lean frame."""
+def classic_disk_sympy(lean_axis: str = "x", speeds: str = "rates"):
+    """sympy's KanesMethod of the disk: q = (yaw, lean, spin), R = Rz(yaw) R_lean R_spin with the lean
+    about `lean_axis` ("x": the axle y; "y": the axle x); speeds the angle rates or ω in disk axes
+    ("body"). The contact point has zero velocity (no slip), the centre G = contact + R e_z of the lean
+    frame. Returns (km, q, u, parameter values)."""
     q = me.dynamicsymbols("q1:4")
     u = me.dynamicsymbols("u1:4")
     m, R, g = sp.symbols("m R g", positive=True)
     N = me.ReferenceFrame("N")
     A = N.orientnew("A", "Axis", [q[0], N.z])
-    B = A.orientnew("B", "Axis", [q[1], A.x])
-    C = B.orientnew("C", "Axis", [q[2], B.y])
-    A.set_ang_vel(N, u[0] * N.z)
-    B.set_ang_vel(A, u[1] * A.x)
-    C.set_ang_vel(B, u[2] * B.y)
+    lean, axle = (A.x, "y") if lean_axis == "x" else (A.y, "x")
+    B = A.orientnew("B", "Axis", [q[1], lean])
+    C = B.orientnew("C", "Axis", [q[2], getattr(B, axle)])
+    if speeds == "rates":
+        A.set_ang_vel(N, u[0] * N.z)
+        B.set_ang_vel(A, u[1] * lean)
+        C.set_ang_vel(B, u[2] * getattr(B, axle))
+        kd = [ui - qi.diff() for ui, qi in zip(u, q)]
+    else:
+        kd = [C.ang_vel_in(N).dot(e) - ui for e, ui in zip((C.x, C.y, C.z), u)]
+        C.set_ang_vel(N, u[0] * C.x + u[1] * C.y + u[2] * C.z)
     contact = me.Point("contact")
     contact.set_vel(N, 0)
     G = contact.locatenew("G", R * B.z)
     G.v2pt_theory(contact, N, C)
-    disk = me.RigidBody("disk", G, C, m, (me.inertia(C, m * R**2 / 4, m * R**2 / 2, m * R**2 / 4), G))
-    km = me.KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=[ui - qi.diff() for ui, qi in zip(u, q)])
+    I = [m * R**2 / 4] * 3
+    I["xyz".index(axle)] = m * R**2 / 2
+    disk = me.RigidBody("disk", G, C, m, (me.inertia(C, *I), G))
+    km = me.KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=kd)
     km.kanes_equations([disk], [(G, -m * g * N.z)])
     return km, q, u, {m: VALUES["m"], R: VALUES["R"], g: VALUES["g"]}
+
+
+def free_disk(parametrization: str) -> tuple[eg.System, eg.KaneEquations]:
+    """The disk on a free-flyer base (axle x; ZYX Euler angles: yaw, lean = pitch, spin = roll; or the
+    quaternion with u = the base twist in disk axes), z dependent, the angular speeds independent."""
+    m, R, g = sp.symbols("m R g", positive=True)
+    system = eg.System(gravity=(0, 0, -g))
+    disk = system.add_body("disk", joint=eg.FreeFlyer("base", parametrization), mass=m,
+                           inertia=sp.diag(m * R**2 / 2, m * R**2 / 4, m * R**2 / 4))
+    system.add_rolling(disk, radius=R, axis=(1, 0, 0))
+    return system, eg.kane(system, dependent_coordinates=[system.q[2]], independent=list(system.u[3:]))
 
 
 def test_equals_sympy_classic_disk():
@@ -66,6 +89,30 @@ def test_equals_sympy_classic_disk():
         omega = w[0] * np.array([0, 0, 1]) + w[1] * np.array([c(yaw), s(yaw), 0]) + w[2] * e_y
         np.testing.assert_allclose(f.dependent_speeds(q, w, VALUES), np.cross(omega, VALUES["R"] * e_z),
                                    atol=1e-13)
+
+
+@pytest.mark.parametrize("parametrization", ["euler", "quaternion"])
+def test_disk_on_a_free_flyer_equals_sympy(parametrization):
+    """The disk on a free flyer (add_rolling, axle x): M̃, f̃ in the ZYX angle rates, or in ω in disk axes
+    (quaternion), equal sympy's classic disk leaning about y, at random consistent states (the base's
+    height z = R cos(pitch), the quaternion's ZYX angles for sympy)."""
+    system, k = free_disk(parametrization)
+    f = eg.codegen(k)
+    km, qs, us, values = classic_disk_sympy("y", "rates" if parametrization == "euler" else "body")
+    rng = np.random.default_rng(5)
+    for _ in range(4):
+        yaw, spin, x, y = rng.uniform(-3, 3, 4)
+        lean = rng.uniform(-1.3, 1.3)
+        angles = Rotation.from_euler("ZYX", [yaw, lean, spin])
+        q = np.r_[x, y, VALUES["R"] * np.cos(lean), [yaw, lean, spin] if parametrization == "euler" else
+                  angles.as_quat()]
+        w = rng.uniform(-3, 3, 3)
+        np.testing.assert_allclose(f.holonomic_residual(q, VALUES), 0, atol=1e-15)
+        at = {**values, **dict(zip(qs, [yaw, lean, spin])), **dict(zip(us, w))}
+        np.testing.assert_allclose(f.mass_matrix(q, w, VALUES), K.number(km.mass_matrix, at), rtol=1e-12,
+                                   atol=1e-14)
+        np.testing.assert_allclose(f.forcing(q, w, VALUES), K.number(km.forcing, at)[:, 0], rtol=1e-11,
+                                   atol=1e-12)
 
 
 @pytest.mark.parametrize("factor", [1.2, 0.8])

@@ -121,7 +121,7 @@ class NumericKane:
 
     def assemble(self, q_guess, params=None, tol: float = 1e-12, iterations: int = 50) -> np.ndarray:
         """q with f(q) = 0 near `q_guess`, the independent coordinates held: Newton on the dependent ones,
-        q_dep ← q_dep − (∂f/∂q_dep)⁻¹ f; ModelError if |f| stays above `tol`."""
+        q_dep ← q_dep − (∂f/∂q_dep)⁻¹ f; ModelError if the largest residual stays above `tol`."""
         if not self._q_dep:
             raise ModelError("assemble: these Kane's equations have no holonomic constraints")
         q = np.array(q_guess, dtype=float)
