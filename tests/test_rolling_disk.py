@@ -149,7 +149,6 @@ def test_rolling_needs_its_dependent_coordinate():
     body = flat.add_body("wheel", joint=eg.Translation("t"), mass=1, inertia=sp.eye(3))
     with pytest.raises(eg.ModelError, match="axle is normal to the ground"):
         flat.add_rolling(body, radius=0.3, axis=(0, 0, 1))
-        eg.kane(flat, dependent_coordinates=[flat.q[2]], independent=[])
 
 
 def test_example_prints_both_rates(capsys):
