@@ -22,9 +22,10 @@ from rolling_disk import LEAN, VALUES, critical_spin, roll, rolling_disk  # noqa
 
 def classic_disk_sympy(lean_axis: str = "x", speeds: str = "rates"):
     """sympy's KanesMethod of the disk: q = (yaw, lean, spin), R = Rz(yaw) R_lean R_spin with the lean
-    about `lean_axis` ("x": the axle y; "y": the axle x); speeds the angle rates or ω in disk axes
-    ("body"). The contact point has zero velocity (no slip), the centre G = contact + R e_z of the lean
-    frame. Returns (km, q, u, parameter values)."""
+    about `lean_axis` ("x": the axle y; "y": the axle x); speeds the angle rates, ω in disk axes
+    ("body") or the yaw and lean rates and ω along the axle ("axle": θ̇ + ψ̇ sin(lean), lean about x).
+    The contact point has zero velocity (no slip), the centre G = contact + R e_z of the lean frame.
+    Returns (km, q, u, parameter values)."""
     q = me.dynamicsymbols("q1:4")
     u = me.dynamicsymbols("u1:4")
     m, R, g = sp.symbols("m R g", positive=True)
@@ -33,7 +34,9 @@ def classic_disk_sympy(lean_axis: str = "x", speeds: str = "rates"):
     lean, axle = (A.x, "y") if lean_axis == "x" else (A.y, "x")
     B = A.orientnew("B", "Axis", [q[1], lean])
     C = B.orientnew("C", "Axis", [q[2], getattr(B, axle)])
-    if speeds == "rates":
+    if speeds == "axle":
+        kd = [u[0] - q[0].diff(), u[1] - q[1].diff(), u[2] - q[2].diff() - q[0].diff() * sp.sin(q[1])]
+    elif speeds == "rates":
         A.set_ang_vel(N, u[0] * N.z)
         B.set_ang_vel(A, u[1] * lean)
         C.set_ang_vel(B, u[2] * getattr(B, axle))
@@ -90,6 +93,29 @@ def test_equals_sympy_classic_disk():
         omega = w[0] * np.array([0, 0, 1]) + w[1] * np.array([c(yaw), s(yaw), 0]) + w[2] * e_y
         np.testing.assert_allclose(f.dependent_speeds(q, w, VALUES), np.cross(omega, VALUES["R"] * e_z),
                                    atol=1e-13)
+
+
+def test_new_speeds_through_kinematic_equations():
+    """The disk of examples/rolling_disk.py in new speeds w (ẋ, ẏ, ż; ψ̇, φ̇ and ω along the axle
+    θ̇ + ψ̇ sin φ): the rolling rows, in u, are written in w through u = −Y⁻¹ (K w + k0); M̃ and f̃ equal
+    sympy's disk in the same speeds."""
+    system, _ = rolling_disk()
+    w = sp.symbols("w1:7")
+    u, lean = system.u, system.q[4]
+    kinematic = [w[i] - u[i] for i in range(5)] + [w[5] - u[5] - u[3] * sp.sin(lean)]
+    k = eg.kane(system, speeds=w, kinematic_equations=kinematic, dependent_coordinates=[system.q[2]],
+                independent=w[3:])
+    f = eg.codegen(k)
+    km, qs, us, values = classic_disk_sympy("x", "axle")
+    rng = np.random.default_rng(6)
+    for _ in range(3):
+        yaw, spin, lean = *rng.uniform(-3, 3, 2), rng.uniform(-1.3, 1.3)
+        q, ws = np.array([0.3, -0.2, VALUES["R"] * np.cos(lean), yaw, lean, spin]), rng.uniform(-3, 3, 3)
+        at = {**values, **dict(zip(qs, q[3:])), **dict(zip(us, ws))}
+        np.testing.assert_allclose(f.mass_matrix(q, ws, VALUES), K.number(km.mass_matrix, at), rtol=1e-12,
+                                   atol=1e-14)
+        np.testing.assert_allclose(f.forcing(q, ws, VALUES), K.number(km.forcing, at)[:, 0], rtol=1e-11,
+                                   atol=1e-12)
 
 
 @pytest.mark.parametrize("parametrization", ["euler", "quaternion"])
