@@ -1,8 +1,10 @@
 """The sympy.physics.mechanics twins of the systems in examples/nonholonomic.py; planar bodies with
-constraints that defeat symbolic pivoting; a Whipple-like bicycle (five nonholonomic constraints)."""
+constraints that defeat symbolic pivoting; a Whipple-like bicycle (five nonholonomic constraints); a
+planar four-bar with holonomic constraints, its sympy twin and its pose by hand."""
 import sys
 from pathlib import Path
 
+import numpy as np
 import sympy as sp
 
 import eomgen as eg
@@ -173,3 +175,101 @@ def bicycle():
     height = closed(kin.p[front])[2] + down_f[2]
     qd = system.u
     return system, dict(nonholonomic=[*rear_slip[:2], *front_slip], independent=[qd[3], qd[5], qd[6]]), height
+
+
+# --- a planar four-bar: crank, coupler and rocker on revolutes about z, the rocker's tip pinned at (d, 0) --
+BAR = dict(l1=0.2, l2=0.5, l3=0.4, d=0.45, m1=0.3, m2=0.8, m3=0.6, I1=0.002, I2=0.02, I3=0.01, tau=0.5,
+           g=9.81)
+
+
+def closure(q, l1=BAR["l1"], l2=BAR["l2"], l3=BAR["l3"], d=BAR["d"]):
+    """The tip of the rocker at (d, 0): l1 c1 + l2 c12 + l3 c123 − d = 0, l1 s1 + l2 s12 + l3 s123 = 0."""
+    a1, a2, a3 = q[0], q[0] + q[1], q[0] + q[1] + q[2]
+    return [l1 * sp.cos(a1) + l2 * sp.cos(a2) + l3 * sp.cos(a3) - d,
+            l1 * sp.sin(a1) + l2 * sp.sin(a2) + l3 * sp.sin(a3)]
+
+
+def four_bar(speeds="rates"):
+    """The four-bar (gravity −y, torque τ on the crank), q = relative angles; speeds "rates" (w = q̇) or
+    "absolute" (w = the links' absolute angular rates, by kinematic equations); q2, q3 dependent."""
+    system = eg.System(gravity=(0, -BAR["g"], 0))
+    parent, at = None, 0
+    for i in (1, 2, 3):
+        length = BAR[f"l{i}"]
+        parent = system.add_body(f"link{i}", parent=parent, joint=eg.Revolute(f"q{i}", axis=(0, 0, 1)),
+                                 mass=BAR[f"m{i}"], com=(length / 2, 0, 0),
+                                 inertia=sp.diag(0.001, BAR[f"I{i}"], BAR[f"I{i}"]),
+                                 placement=eg.Placement(translation=(at, 0, 0)))
+        at = length
+    system.add_torque("link1", (0, 0, BAR["tau"]))
+    q, u = system.q, system.u
+    args = dict(holonomic=closure(q), dependent_coordinates=[q[1], q[2]])
+    if speeds == "rates":
+        return system, {**args, "independent": [u[0]]}
+    w = sp.symbols("w1:4")
+    return system, {**args, "speeds": w, "independent": [w[0]],
+                    "kinematic_equations": [w[0] - u[0], w[1] - u[0] - u[1], w[2] - u[0] - u[1] - u[2]]}
+
+
+def four_bar_sympy(speeds="rates"):
+    """sympy's KanesMethod of `four_bar`, written independently: (km, q, u)."""
+    q = me.dynamicsymbols("q1:4")
+    u = me.dynamicsymbols("u1:4")
+    N = me.ReferenceFrame("N")
+    frames, points, bodies, loads = [N], [me.Point("O")], [], []
+    points[0].set_vel(N, 0)
+    for i in range(3):
+        frame = frames[-1].orientnew(f"L{i}", "Axis", [q[i], frames[-1].z])
+        if speeds == "rates":
+            frame.set_ang_vel(frames[-1], u[i] * frames[-1].z)
+        else:
+            frame.set_ang_vel(N, u[i] * N.z)
+        length, mass = BAR[f"l{i + 1}"], BAR[f"m{i + 1}"]
+        G = points[-1].locatenew(f"G{i}", length / 2 * frame.x)
+        G.v2pt_theory(points[-1], N, frame)
+        tip = points[-1].locatenew(f"P{i}", length * frame.x)
+        tip.v2pt_theory(points[-1], N, frame)
+        I = BAR[f"I{i + 1}"]
+        bodies.append(me.RigidBody(f"link{i}", G, frame, mass, (me.inertia(frame, 0.001, I, I), G)))
+        loads.append((G, -mass * BAR["g"] * N.y))
+        frames.append(frame)
+        points.append(tip)
+    loads.append((frames[1], BAR["tau"] * N.z))
+    rates = [x.diff() for x in q]
+    if speeds == "rates":
+        kd, qd = [ui - r for ui, r in zip(u, rates)], dict(zip(rates, u))
+    else:
+        kd = [u[0] - rates[0], u[1] - rates[0] - rates[1], u[2] - sum(rates)]
+        qd = {rates[0]: u[0], rates[1]: u[1] - u[0], rates[2]: u[2] - u[1]}
+    f = closure(q)
+    km = me.KanesMethod(N, q_ind=[q[0]], q_dependent=q[1:], configuration_constraints=f, u_ind=[u[0]],
+                        u_dependent=u[1:], velocity_constraints=[e.diff().subs(qd) for e in f], kd_eqs=kd)
+    km.kanes_equations(bodies, loads)
+    return km, q, u
+
+
+def four_bar_pose(q1: float) -> list[float]:
+    """(q1, q2, q3) of the four-bar by hand: the coupler-rocker joint P2 where the circles about P1 (radius
+    l2) and about (d, 0) (radius l3) meet, on the side above the line P1-(d, 0)."""
+    l1, l2, l3, d = (BAR[k] for k in ("l1", "l2", "l3", "d"))
+    P1, P3 = l1 * np.array([np.cos(q1), np.sin(q1)]), np.array([d, 0.0])
+    e = P3 - P1
+    L = np.linalg.norm(e)
+    a = (L**2 + l2**2 - l3**2) / (2 * L)
+    P2 = P1 + a * e / L + np.sqrt(l2**2 - a**2) * np.array([-e[1], e[0]]) / L
+    a2 = np.arctan2(*(P2 - P1)[::-1])
+    a3 = np.arctan2(*(P3 - P2)[::-1])
+    return [q1, a2 - q1, a3 - a2]
+
+
+def number(expr, values) -> np.ndarray:
+    """A sympy.physics.mechanics matrix at `values` (30 digits, then float)."""
+    return np.array(me.msubs(expr, values).evalf(30).tolist(), dtype=float)
+
+
+def sympy_residuals(km, p: int, values: dict, wd: np.ndarray) -> np.ndarray:
+    """sympy's F_r + F*_r at `values` for independent rates ẇ_ind = wd (its mass matrix and forcing
+    over all speeds, the last rows the constraints' derivatives, give the dependent rates)."""
+    M_s, F_s = number(km.mass_matrix, values), number(km.forcing, values)[:, 0]
+    wd_dep = np.linalg.solve(M_s[p:, p:], F_s[p:] - M_s[p:, :p] @ wd) if len(F_s) > p else []
+    return F_s[:p] - M_s[:p] @ np.r_[wd, wd_dep]

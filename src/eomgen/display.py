@@ -71,8 +71,9 @@ def kane_math(k) -> str:
 
 
 def kane_markdown(k) -> str:
-    n, p = len(k.speeds), len(k.independent)
+    n, p, h = len(k.speeds), len(k.independent), len(k.dependent_coordinates)
+    holonomic = f" ({h} from holonomic constraints in {k.dependent_coordinates})" if h else ""
     return (
-        f"**Kane's equations**: {n} speeds, {n - p} velocity constraints, {p} equations.\n\n"
+        f"**Kane's equations**: {n} speeds, {n - p} velocity constraints{holonomic}, {p} equations.\n\n"
         f"$$ {kane_math(k)} $$\n"
     )

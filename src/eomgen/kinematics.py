@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from .constraints import constraint_rows
 from .errors import ModelError
 from .linalg import cross, dot, matmul, scale
 from .model import FlexibleLink, Placement
@@ -77,7 +78,8 @@ class Kinematics:
     def frame_placement(self, name: str) -> tuple[sp.Matrix, sp.Matrix]:
         """(R, r) of a named frame in the world."""
         f = self._frame(name)
-        R = self._cached(("R", name), lambda: self.sub.add_matrix(matmul(self.R[f.body], f.placement.rotation)))
+        R_body = self.R[f.body] if f.body else sp.eye(3)
+        R = self._cached(("R", name), lambda: self.sub.add_matrix(matmul(R_body, f.placement.rotation)))
         return R, self.position(Point(f.body, f.placement.translation))
 
     def inertia_world(self, body: Body) -> sp.Matrix:
@@ -204,13 +206,15 @@ class Kinematics:
         f = self._frame(name)
         return self.Jdot_u_P(Point(f.body, f.placement.translation)).col_join(self.Jdot_u_R(f.body))
 
-    def contact_jacobian(self) -> tuple[sp.Matrix, sp.Matrix]:
-        """(J_c, J̇_c u): the rows of every contact stacked (3 for a point, 6 for a frame)."""
-        J, Jdot_u = sp.zeros(0, self.n), sp.zeros(0, 1)
-        for c in self.system.contacts:
-            J = J.col_join(self.jacobian(c.frame)[:c.rows, :])
-            Jdot_u = Jdot_u.col_join(self.jacobian_dot_u(c.frame)[:c.rows, :])
-        return J, Jdot_u
+    def constraint_jacobian(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """(J_c, J̇_c u): the rows of every contact, loop and rolling disk stacked (`System.constraint_rows`;
+        see `constraints`)."""
+        rows = self._cached("constraints", lambda: constraint_rows(self))
+        return rows.J, rows.Jdot_u
+
+    def closure_residual(self) -> sp.Matrix:
+        """The position residuals of the loops and rolling disks (`System.closure_rows`), 0 when closed."""
+        return self._cached("constraints", lambda: constraint_rows(self)).residual
 
     # --- helpers ------------------------------------------------------------------------------
     def _frame(self, name: str):

@@ -12,7 +12,7 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..methods.kane import KaneEquations
-from .contacts import contact_dynamics, row_names, support_projector
+from .contacts import contact_dynamics, support_projector
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
 from .runtime import mpmath_functions, runtime_namespace
@@ -92,6 +92,7 @@ class NumericEoM:
         self.functions: dict[str, Generated] = {}
         self._python: dict[str, Callable] = {}  # Python versions for mpmath references
         self._built: dict[str, tuple[Callable, bool]] = {}  # how each function was built
+        self._active_rows: np.ndarray | None = None  # rows of J_c some motion can violate
         for name in eager(eom):  # T, U, tau and other frames are written when first asked for
             self._function(name, lambda name=name: eom.compact[name], symmetric=name == "M")
 
@@ -278,27 +279,72 @@ class NumericEoM:
         qdot = self.call("qdot", q, u, params=params).ravel()
         return np.concatenate([qdot, self.forward_dynamics(q, u, params=params), di])
 
-    # --- contacts (one state at a time) --------------------------------------------------------
+    # --- contacts, loops, rolling disks (one state at a time) ------------------------------------
     def contact_jacobian(self, q, params=None) -> np.ndarray:
-        """J_c: the stacked rows of the system's contacts (3 per point, 6 per frame contact)."""
-        self._function("J_c", lambda: self.eom.kinematics.contact_jacobian()[0])
+        """J_c: the stacked rows of every constraint: contacts (3 per point, 6 per frame), loops, rolling
+        disks (`constraint_rows` names them)."""
+        self._function("J_c", lambda: self.eom.kinematics.constraint_jacobian()[0])
         return self.call("J_c", q, params=params)
 
     def contact_jacobian_dot_u(self, q, u, params=None) -> np.ndarray:
         """J̇_c u, stacked like J_c's rows."""
-        self._function("Jdot_c_u", lambda: self.eom.kinematics.contact_jacobian()[1])
+        self._function("Jdot_c_u", lambda: self.eom.kinematics.constraint_jacobian()[1])
         return self.call("Jdot_c_u", q, u, params=params)[..., 0]
 
+    def closure_residual(self, q, params=None) -> np.ndarray:
+        """The loops' and rolling disks' position residuals (`closure_rows`), zero when closed."""
+        if not self.closure_rows:
+            raise ModelError("the system has no loops or rolling disks: add them with System.add_loop or "
+                             "System.add_rolling")
+        self._function("closure", lambda: self.eom.kinematics.closure_residual())
+        return self.call("closure", q, params=params)[..., 0]
+
+    @property
+    def constraint_rows(self) -> list[str]:
+        """Names of the rows of J_c and of the constraint forces."""
+        return self.eom.system.constraint_rows()
+
+    @property
+    def closure_rows(self) -> list[str]:
+        """Names of the rows of `closure_residual`."""
+        return self.eom.system.closure_rows()
+
     def _contacts(self):
-        if not self.eom.system.contacts:
-            raise ModelError("the system has no contacts: add them with System.add_contact(frame, kind)")
-        return row_names(self.eom.system.contacts)
+        if not self.constraint_rows:
+            raise ModelError("the system has no contacts, loops or rolling disks: add them with "
+                             "System.add_contact, add_loop or add_rolling")
+        return self.constraint_rows
+
+    def _active(self, params) -> np.ndarray:
+        """The rows of J_c that some motion can violate: rows of J_c and J̇_c u that vanish at three random
+        states (the z row of a loop in a plane mechanism) carry no force and stay out of the solve."""
+        if self._active_rows is None:
+            rng = np.random.default_rng(0)
+            q, u = rng.uniform(-np.pi, np.pi, (2, 3, max(self.nq, self.nv)))
+            q, u = q[:, :self.nq], u[:, :self.nv]
+            rows = [np.abs(self.contact_jacobian(q[k], params)).max(axis=1)
+                    + np.abs(self.contact_jacobian_dot_u(q[k], u[k], params)) for k in range(3)]
+            self._active_rows = np.max(rows, axis=0) > 0
+        return self._active_rows
 
     def constrained_dynamics(self, q, u, tau_a=None, params=None) -> tuple[np.ndarray, np.ndarray]:
-        """(u̇, F_c) with every contact held: F_c = −(J M⁻¹ Jᵀ)⁻¹ (J M⁻¹ h + J̇ u), the forces on the robot."""
-        names = self._contacts()
-        return contact_dynamics(self.M(q, params), self._h(q, u, tau_a, params), self.contact_jacobian(q, params),
-                                self.contact_jacobian_dot_u(q, u, params), names)
+        """(u̇, F_c) with every contact, loop and rolling disk held: F_c = −(J M⁻¹ Jᵀ)⁻¹ (J M⁻¹ h + J̇ u),
+        the constraint forces on the system, stacked like J_c's rows (0 on rows no motion can violate)."""
+        names, active = self._contacts(), self._active(params)
+        u_dot, F_active = contact_dynamics(
+            self.M(q, params), self._h(q, u, tau_a, params), self.contact_jacobian(q, params)[active],
+            self.contact_jacobian_dot_u(q, u, params)[active], [n for n, a in zip(names, active) if a])
+        F = np.zeros(len(names))
+        F[active] = F_active
+        return u_dot, F
+
+    def constraint_forces(self, q, u, tau_a=None, params=None) -> dict[str, np.ndarray]:
+        """F_c by constraint name (a contact's frame, a loop's or a rolling disk's name): a loop's force
+        acts on frame_a's body, its opposite on frame_b's; a disk's rows are along ground x, y and z."""
+        F, system, out = self.constrained_dynamics(q, u, tau_a, params)[1], self.eom.system, {}
+        for c in (*system.contacts, *system.loops, *system.rolling):
+            out[c.name], F = F[:len(c.row_names)], F[len(c.row_names):]
+        return out
 
     def contact_forces(self, q, u, tau_a=None, params=None) -> np.ndarray:
         """F_c, stacked like J_c's rows (world-aligned axes)."""

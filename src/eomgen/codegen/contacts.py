@@ -30,13 +30,6 @@ COND_LIMIT = 1e8  # κ beyond which a solve keeps fewer than half the digits (κ
 RANK_RTOL = 1e-10  # σ / σ_max below it (κ beyond 1e20): a row that repeats others
 
 
-def row_names(contacts) -> list[str]:
-    names = []
-    for c in contacts:
-        names += [f"{c.frame}.{axis}" for axis in ("x", "y", "z", "rx", "ry", "rz")[:c.rows]]
-    return names
-
-
 def redundant_rows(A: np.ndarray, tol: float) -> list[int]:
     """Rows of a constraint matrix that are linear combinations of the rows before them (to `tol`)."""
     kept, redundant = np.zeros((0, A.shape[1])), []

@@ -25,8 +25,9 @@ _call = runtime_namespace()["_call"]
 class NumericKane:
     """Numeric Kane's equations in the independent speeds w (here: w_ind): mass_matrix(q, w), forcing(q, w),
     qdot(q, w) (the coordinate rates, nq of them), joint_speeds(q, w) (u, n of them), dependent_speeds(q, w),
-    active_forces(q, w), and `rhs(t, x)` for x = [q, w] (solve_ivp). One state (q of shape (nq,)) or N
-    states (N, nq); parameters by name in `params`."""
+    active_forces(q, w), and `rhs(t, x)` for x = [q, w] (solve_ivp); with holonomic constraints
+    holonomic_residual(q) and assemble(q_guess) (a consistent q, the independent coordinates held).
+    One state (q of shape (nq,)) or N states (N, nq); parameters by name in `params`."""
 
     syntax = PYTHON
 
@@ -37,11 +38,13 @@ class NumericKane:
         self.parameters = Parameters(kane.parameters)
         self.params = self.parameters.symbols  # p[k] of the generated code, sorted by name
         self._dep, self._ind = kane._indices()
+        self._q_dep = [list(kane.system.q).index(x) for x in kane.dependent_coordinates]
         w_inputs = [] if kane.speeds_are_qdot else list(kane.speeds)  # else w is u itself
         writer = FunctionWriter(kane.subexpressions, {"q": list(kane.system.q), "u": list(kane.system.u),
                                                       "ud": w_inputs, "p": self.params}, self.syntax)
-        keys = [k for k in ("M", "h", "Y", "C", "rates", "qdot")
-                if (k != "C" or kane.dependent) and (k != "qdot" or not kane.joint_speeds_are_rates)]
+        keys = [k for k in ("M", "h", "Y", "C", "rates", "qdot", "holonomic")
+                if (k != "C" or kane.dependent) and (k != "qdot" or not kane.joint_speeds_are_rates)
+                and (k != "holonomic" or kane.dependent_coordinates)]
         written = []
         for i, key in enumerate(keys):
             source, shape, ops = writer.source(f"e{i}", kane.compact[key], symmetric=key == "M")
@@ -111,6 +114,27 @@ class NumericKane:
         """F̃_r = Pᵀ Q (Q = τ_loads − g, the generalized active forces in u)."""
         _, u, P, *_ = self._speeds(q, w, params)
         return (np.swapaxes(P, -1, -2) @ self._eval("h", q, u, params=params)[..., 1:])[..., 0]
+
+    def holonomic_residual(self, q, params=None) -> np.ndarray:
+        """f(q), the residuals of the holonomic constraints (zero on the constraint)."""
+        return self._eval("holonomic", q, params=params)[..., 0]
+
+    def assemble(self, q_guess, params=None, tol: float = 1e-12, iterations: int = 50) -> np.ndarray:
+        """q with f(q) = 0 near `q_guess`, the independent coordinates held: Newton on the dependent ones,
+        q_dep ← q_dep − (∂f/∂q_dep)⁻¹ f; ModelError if the largest residual stays above `tol`."""
+        if not self._q_dep:
+            raise ModelError("assemble: these Kane's equations have no holonomic constraints")
+        q = np.array(q_guess, dtype=float)
+        if q.shape[-1:] != (self.nq,):
+            raise ModelError(f"assemble: q_guess: expected {self.nq} coordinates, got shape {q.shape}")
+        for _ in range(iterations):
+            fF = self._eval("holonomic", q, params=params)
+            residual = np.max(np.abs(fF[..., 0]))
+            if residual <= tol:
+                return q
+            q[..., self._q_dep] -= np.linalg.solve(fF[..., 1:], fF[..., :1])[..., 0]
+        raise ModelError(f"assemble: the holonomic constraints fail by {residual:.3g} (max |f|) after "
+                         f"{iterations} Newton steps from q_guess; no consistent q near it")
 
     def _dynamics(self, q, w_ind, params) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(u, M̃, f̃) at q and w_ind."""

@@ -29,8 +29,9 @@ import sympy as sp
 from ..display import kane_markdown, kane_math
 from ..eom import ClosedForms, EquationsOfMotion
 from ..errors import ModelError
+from ..constraints import rolling_rows
 from ..kinematics import Kinematics
-from ..model import FlexibleLink, FreeFlyer
+from ..model import FlexibleLink
 from ..model.system import System
 from ..model.values import scalar
 from ..subexpressions import samples
@@ -48,7 +49,8 @@ class KaneEquations(ClosedForms):
     named intermediates (`subexpressions`), in q, the joint speeds u = system.u (n of them) and the
     speeds w: "M" (n × n), "h" ([h | τ_loads − g], n × 2), "Y" ([Y | K | k0], n × (2n + 1)),
     "C" ([C | c0], m × (n + 1)), "rates" ([d/dt(Y u + K w + k0); d/dt(C w + c0)] at u̇ = 0, ẇ = 0) and
-    "qdot" (q̇(q, u), nq × 1, `System.qdot`)."""
+    "qdot" (q̇(q, u), nq × 1, `System.qdot`) and "holonomic" ([f | ∂f/∂q_dep], k × (k + 1), the
+    configuration constraints f(q) = 0 and their Jacobian in the dependent coordinates)."""
 
     system: System
     kinematics: Kinematics
@@ -58,6 +60,7 @@ class KaneEquations(ClosedForms):
     compact: dict = field(default_factory=dict)
     parameters: set = field(default_factory=set)  # the system's, constraints' and kinematic equations'
     eom: EquationsOfMotion | None = None  # the equations in the joint speeds u (M, b, g, τ, T, U)
+    dependent_coordinates: list = field(default_factory=list)  # one per holonomic constraint
     _closed: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -98,6 +101,16 @@ class KaneEquations(ClosedForms):
         """The joint speeds u = −Y⁻¹ (K w + k0) in q and w_ind (n rows; q̇ but for quaternion ball and planar
         joints); closed form."""
         return self._solution()["u"]
+
+    @property
+    def holonomic(self) -> sp.Matrix:
+        """The holonomic constraints' residuals f(q) (= 0 on the constraint); closed form."""
+        return self._closed_form("holonomic")[:, 0]
+
+    @property
+    def independent_coordinates(self) -> list:
+        """The coordinates that are not dependent (held by `assemble` of the generated code)."""
+        return [x for x in self.system.q if x not in self.dependent_coordinates]
 
     @property
     def dependent_speeds(self) -> sp.Matrix:
@@ -249,27 +262,40 @@ def _check_invertible(sub, matrices: dict[str, sp.Matrix], q: list, params: list
                              f"(smallest cond {min(conds):.1e})")
 
 
-def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=None,
-         independent=None) -> KaneEquations:
+def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=None, independent=None,
+         holonomic=None, dependent_coordinates=None) -> KaneEquations:
     """Kane's equations of `system` in the generalized `speeds` w, defined by `kinematic_equations`
     (expressions = 0, linear in the joint speeds u = system.u and w; default w = u), with the velocity
     constraints `nonholonomic` (expressions in q and w = 0, linear in w) and the `independent` speeds.
-    u is q̇ but for a quaternion ball joint (ω in child axes) and a planar joint (its twist in child axes),
-    whose coordinates follow from q̇ = system.qdot(q, u)."""
+    u is q̇ but for a quaternion ball joint or free flyer (ω, the twist, in child axes) and a planar joint
+    (its twist in child axes), whose coordinates follow from q̇ = system.qdot(q, u).
+
+    `holonomic`: configuration constraints f(q) = 0 with as many `dependent_coordinates` (symbols of q);
+    their time derivatives ḟ = ∂f/∂q q̇(q, u) join the velocity constraints before the nonholonomic ones.
+    The system's rolling disks (`System.add_rolling`) are taken as they are: each disk's height residual
+    joins the holonomic constraints after the given ones (name one dependent coordinate more per disk), the
+    normal velocity of its contact point (J_n u) their derivatives, its two no-slip rows (J_t u) the
+    nonholonomic constraints after the given ones. So there are len(holonomic) + len(nonholonomic)
+    + 3 × disks dependent speeds. Constraints in the joint speeds u (ḟ, the disks' rows) are written in new
+    speeds w through u = −Y⁻¹ (K w + k0) in closed form (pivots of Y proven nonzero; w = u needs none).
+    Contacts and loops are refused (write a loop as holonomic constraints). The rhs integrates every q."""
     if not isinstance(system, System):
         raise ModelError(f"kane: expected an eomgen.System, got {type(system).__name__}")
-    if any(isinstance(j, FreeFlyer) for j in system.joints):
-        raise ModelError("kane: a free-flyer base is not supported; give the base its own joints")
     if any(isinstance(j, FlexibleLink) for j in system.joints):
         raise ModelError("kane: flexible links are not supported")
+    if system.contacts or system.loops:
+        raise ModelError(f"kane: contacts {[c.name for c in system.contacts]} and loops "
+                         f"{[c.name for c in system.loops]} are not taken: write loop closures as holonomic "
+                         "constraints and contacts as nonholonomic ones")
     q, u = list(system.q), list(system.u)
     n = len(u)
     speeds = u if speeds is None else _symbols(speeds, "speeds")
     if len(speeds) != n or len(set(speeds)) != n:
         raise ModelError(f"kane: give {n} distinct speeds, got {speeds}")
-    kinematic_equations, nonholonomic = (None if exprs is None else _expressions(system, exprs, what, speeds)
-                                         for exprs, what in ((kinematic_equations, "kinematic equation"),
-                                                             (nonholonomic, "nonholonomic constraint")))
+    kinematic_equations, nonholonomic, holonomic = (
+        None if exprs is None else _expressions(system, exprs, what, speeds)
+        for exprs, what in ((kinematic_equations, "kinematic equation"),
+                            (nonholonomic, "nonholonomic constraint"), (holonomic, "holonomic constraint")))
     if kinematic_equations is None:
         if speeds != u:
             raise ModelError("kane: new speeds need kinematic_equations (Y u + K w + k0 = 0, u = system.u)")
@@ -284,37 +310,99 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
         YK, k0 = _linear(kinematic_equations, u + speeds, "kinematic equation")
         Y, K = YK[:, :n], YK[:, n:]
     nonholonomic = list(nonholonomic or [])
+    holonomic = list(holonomic or [])
+    dependent_coordinates = _dependent_coordinates(system, holonomic, dependent_coordinates, speeds)
     independent = speeds if independent is None else _symbols(independent, "independent")
     unknown = [s for s in independent if s not in speeds]
     if unknown:
         raise ModelError(f"kane: independent speeds {unknown} are not among the speeds {speeds}")
     dependent = [s for s in speeds if s not in independent]
-    if len(dependent) != len(nonholonomic):
-        raise ModelError(f"kane: {len(nonholonomic)} constraints need as many dependent speeds, "
+    disks = len(system.rolling)
+    if len(dependent) != len(holonomic) + len(nonholonomic) + 3 * disks:
+        raise ModelError(f"kane: {len(holonomic)} holonomic and {len(nonholonomic)} nonholonomic "
+                         f"constraints and {disks} rolling disks (3 rows each) need as many dependent speeds, "
                          f"got {dependent}")
-    C, c0 = _linear(nonholonomic, speeds, "nonholonomic constraint") if nonholonomic else (
-        sp.zeros(0, n), sp.zeros(0, 1))
     for i, e in enumerate(nonholonomic):
         stray = sp.sympify(e).free_symbols & (set(u) - set(speeds))
         if stray:
             raise ModelError(f"kane: nonholonomic constraint {i} depends on q̇ (the joint speeds) "
                              f"{sorted(stray, key=str)}: write it in q and the speeds")
 
-    given = [*kinematic_equations, *nonholonomic]
+    given = [*kinematic_equations, *nonholonomic, *holonomic]
     parameters = (system.parameters | set().union(*(sp.sympify(e).free_symbols for e in given))) - set(
         q + u + speeds)
     kin = Kinematics(system)
     sub = kin.sub
     eom = projected_newton_euler.derive(kin)
+    f = sub.add_matrix(sp.Matrix(len(holonomic), 1, holonomic))
+    in_u = [(configuration_jacobian(sub, f, q) * system.qdot.jacobian(u), sp.zeros(f.rows, 1), None)]
+    wheels = [rolling_rows(kin, disk) for disk in system.rolling]  # in u: (A, a0, A rates)
+    in_u += [(r.J[2:, :], sp.zeros(1, 1), r.Jdot_u[2:, :]) for r in wheels]  # ḟ = ∂f/∂q q̇(q, u)
+    slip = [(r.J[:2, :], sp.zeros(2, 1), r.Jdot_u[:2, :]) for r in wheels]
+    f = f.col_join(sp.Matrix(len(wheels), 1, [r.residual[0] for r in wheels]))
+    rows = [(sp.zeros(0, n), sp.zeros(0, 1), sp.zeros(0, 1))]  # (C, c0, rates) of each kind
+    rows += _in_speeds(kin, in_u, speeds, (Y, K, k0)) if f.rows else []
+    if nonholonomic:
+        C, c0 = _linear(nonholonomic, speeds, "nonholonomic constraint")
+        rows.append((C, c0, kin.time_derivative(sp.Matrix(nonholonomic))))
+    rows += _in_speeds(kin, slip, speeds, (Y, K, k0)) if slip else []
+    C, c0 = (sp.Matrix.vstack(*(r[i] for r in rows)) for i in (0, 1))
+    F_dep = configuration_jacobian(sub, f, dependent_coordinates)
     Cd = sub.add_matrix(C[:, [speeds.index(s) for s in dependent]])
     Yn = sub.add_matrix(Y)
-    _check_invertible(sub, {"the constraints' matrix of the dependent speeds C_dep": Cd,
+    _check_invertible(sub, {"∂(holonomic constraints)/∂(dependent coordinates)": F_dep,
+                            "the constraints' matrix of the dependent speeds C_dep": Cd,
                             "the speed map (∂ kinematic equations / ∂u) Y": Yn},
                       q, parameters)
-    rates = kin.time_derivative(sp.Matrix([*kinematic_equations, *nonholonomic]))  # ∂/∂q q̇ (u̇, ẇ = 0)
+    rates = kin.time_derivative(sp.Matrix(kinematic_equations)).col_join(  # u̇, ẇ = 0
+        sp.Matrix.vstack(*(r[2] for r in rows)))
     gravity = -eom.compact["g"]
     compact = {"M": eom.compact["M"],
                "h": (eom.tau_compact - eom.compact["b"] + gravity).row_join(eom.tau_compact + gravity),
                "Y": Yn.row_join(sub.add_matrix(K)).row_join(sub.add_matrix(k0)),
-               "C": sub.add_matrix(C).row_join(sub.add_matrix(c0)), "rates": rates, "qdot": system.qdot}
-    return KaneEquations(system, kin, speeds, independent, dependent, compact, parameters, eom)
+               "C": sub.add_matrix(C).row_join(sub.add_matrix(c0)), "rates": rates, "qdot": system.qdot,
+               "holonomic": f.row_join(F_dep)}
+    return KaneEquations(system, kin, speeds, independent, dependent, compact, parameters, eom,
+                         dependent_coordinates=dependent_coordinates)
+
+
+def _dependent_coordinates(system: System, holonomic: list, coordinates, speeds: list) -> list[sp.Symbol]:
+    """The dependent coordinates, one per holonomic constraint and rolling disk, checked: symbols of q,
+    distinct; the constraints in q and parameters only."""
+    coordinates = [] if coordinates is None else _symbols(coordinates, "dependent_coordinates")
+    for i, e in enumerate(holonomic):
+        stray = e.free_symbols & (set(system.u) | set(speeds))
+        if stray:
+            raise ModelError(f"kane: holonomic constraint {i} depends on the speeds "
+                             f"{sorted(stray, key=str)}: write it in q (configuration constraints f(q) = 0)")
+    q = list(system.q)
+    strangers = [x for x in coordinates if x not in q]
+    if strangers:
+        raise ModelError(f"kane: dependent_coordinates {strangers} are not coordinates of the system {q}")
+    disks = [d.name for d in system.rolling]
+    if len(set(coordinates)) != len(coordinates) or len(coordinates) != len(holonomic) + len(disks):
+        raise ModelError(f"kane: {len(holonomic)} holonomic constraints and the rolling disks {disks} (one "
+                         f"height each) need as many distinct dependent_coordinates, got {coordinates}")
+    return sorted(coordinates, key=q.index)
+
+
+def configuration_jacobian(sub, f: sp.Matrix, q: list) -> sp.Matrix:
+    """∂f/∂q (k × nq) through the intermediates (directional derivatives along each coordinate)."""
+    return sp.Matrix(f.rows, len(q), lambda i, k: sub.add(sub.derivative(f[i], {q[k]: 1}, ("∂", q[k]))))
+
+
+def _in_speeds(kin: Kinematics, rows: list, speeds: list, kinematic: tuple) -> list:
+    """Velocity constraints A u + a0 = 0 in the joint speeds (with their rates d/dt at u̇ = 0, or None)
+    written in the speeds w: unchanged if w = u, else with u = W w + X0 = −Y⁻¹ (K w + k0) in closed form:
+    C = A W, c0 = A X0 + a0, and the rates d/dt (C w + c0) at ẇ = 0. Returns [(C, c0, rates)]."""
+    u = list(kin.system.u)
+    if speeds == u:
+        return [(A, a0, kin.time_derivative(A * sp.Matrix(u) + a0) if rates is None else rates)
+                for A, a0, rates in rows]
+    Y, K, k0 = kinematic
+    X = solve_proven(Y, -K.row_join(k0), "the speed map Y (constraints in the joint speeds, new speeds)")
+    written = []
+    for A, a0, _ in rows:
+        C, c0 = A * X[:, :-1], A * X[:, -1] + a0
+        written.append((C, c0, kin.time_derivative(C * sp.Matrix(speeds) + c0)))
+    return written

@@ -10,6 +10,7 @@ import sympy as sp
 
 from ..errors import ModelError
 from ..symbols import Generated, user_symbols
+from .constraints import Contact, Loop, Rolling, default_ground, loop, unit
 from .free_flyer import FreeFlyer
 from .joints import Fixed, Joint, Placement, Revolute
 from .loads import Actuator, Damper, Force, Motor, Point, Spring, Torque
@@ -42,24 +43,12 @@ class Body:
 
 @dataclass(eq=False)
 class Frame:
-    """A named frame fixed on a body (made by `System.add_frame`), placed on the body's frame."""
+    """A named frame fixed on a body (made by `System.add_frame`), placed on the body's frame, or fixed
+    in the world (body None)."""
 
     name: str
-    body: Body
+    body: Body | None
     placement: Placement
-
-
-@dataclass(frozen=True)
-class Contact:
-    """A rigid contact at a frame: "point" (3 rows, J_P of its origin) or "frame" (6 rows)."""
-
-    frame: str
-    kind: str
-
-    @property
-    def rows(self) -> int:
-        """The contact's rows in J_c: 3 for a point, 6 for a frame."""
-        return 3 if self.kind == "point" else 6
 
 
 class System:
@@ -74,6 +63,8 @@ class System:
         self.frames: dict[str, Frame] = {}
         self.loads: list = []
         self.contacts: list[Contact] = []
+        self.loops: list[Loop] = []
+        self.rolling: list[Rolling] = []
         self.motors: list[Motor] = []
         self._bodies: dict[str, Body] = {}
         self._symbols: dict[str, tuple[sp.Symbol, str]] = {}  # name → (the user's symbol, where it entered)
@@ -299,8 +290,9 @@ class System:
         joint.bind(driver.joint)
         return [driver.index]
 
-    def add_frame(self, name: str, body, placement: Placement | None = None) -> Frame:
-        """A named frame fixed on a body (a tool tip, a contact point, a URDF link merged away)."""
+    def add_frame(self, name: str, body=None, placement: Placement | None = None) -> Frame:
+        """A named frame fixed on a body (a tool tip, a contact point, a URDF link merged away), or
+        in the world (body None: a loop's anchor)."""
         if not isinstance(name, str) or not name:
             raise ModelError(f"frame name must be a non-empty string, got {name!r}")
         if name in self._bodies or name in self.frames:
@@ -310,7 +302,7 @@ class System:
             raise ModelError(f"frame '{name}': placement must be an eomgen.Placement")
         with self._changing():
             self._register(f"frame '{name}': placement", placement.rotation, placement.translation)
-        frame = Frame(name, self.body(body), placement)
+        frame = Frame(name, None if body is None else self.body(body), placement)
         self.frames[name] = frame
         return frame
 
@@ -326,6 +318,68 @@ class System:
         self.contacts.append(contact)
         self.version += 1
         return contact
+
+    def add_loop(self, frame_a: str, frame_b: str, kind: str = "point", axis=(0, 0, 1),
+                 name: str | None = None) -> Loop:
+        """A loop closure between two frames (or body origins; a world frame from add_frame(body=None)):
+        kind "point" / "spherical" (origins coincide), "frame" (poses coincide) or "revolute" (origins
+        coincide, relative rotation about `axis`, frame_a's axes). Rows J = J_a − J_b (world axes)."""
+        name = f"{frame_a}-{frame_b}" if name is None else name
+        if not isinstance(name, str) or not name:
+            raise ModelError(f"loop name must be a non-empty string, got {name!r}")
+        if any(c.name == name for c in self.loops + self.rolling):
+            raise ModelError(f"loop '{name}' exists already")
+        bodies = []
+        for frame in (frame_a, frame_b):
+            if not isinstance(frame, str) or frame not in self.frames and frame not in self._bodies:
+                raise ModelError(f"loop '{name}': unknown frame {frame!r}; frames are {sorted(self.frames)} "
+                                 f"and bodies {sorted(self._bodies)}")
+            bodies.append(self.frames[frame].body if frame in self.frames else self._bodies[frame])
+        if frame_a == frame_b:
+            raise ModelError(f"loop '{name}': a loop between frame '{frame_a}' and itself constrains "
+                             "nothing")
+        if bodies[0] is bodies[1]:
+            where = "the world" if bodies[0] is None else f"body '{bodies[0].name}'"
+            raise ModelError(f"loop '{name}': frames '{frame_a}' and '{frame_b}' are both fixed on {where}; "
+                             "a loop joins two different bodies")
+        closure = loop(name, frame_a, frame_b, kind, axis)
+        with self._changing():
+            self._register(f"loop '{name}': axis", closure.axis)
+        self.loops.append(closure)
+        return closure
+
+    def add_rolling(self, body, radius, axis=(0, 1, 0), ground: Placement | None = None,
+                    name: str | None = None) -> Rolling:
+        """A thin disk (wheel) of `radius`, centred at the body origin with axle `axis` (body axes), rolling
+        without slip on the xy plane of `ground` (its z axis the normal toward the disk; default the plane
+        z = 0 facing against gravity). Rows: the no-slip conditions along ground x and y and the normal
+        velocity of the contact point; residual: the height of the lowest point of the disk."""
+        body = self.body(body)
+        name = f"{body.name}_rolling" if name is None else name
+        if not isinstance(name, str) or not name:
+            raise ModelError(f"rolling disk name must be a non-empty string, got {name!r}")
+        if any(c.name == name for c in self.loops + self.rolling):
+            raise ModelError(f"rolling disk '{name}' exists already")
+        radius = nonnegative(radius, f"rolling disk '{name}': radius")
+        if radius.is_zero:
+            raise ModelError(f"rolling disk '{name}': radius must be positive")
+        axis = unit(vector3(axis, f"rolling disk '{name}': axis"), f"rolling disk '{name}': axis")
+        ground = default_ground(self.gravity) if ground is None else ground
+        if not isinstance(ground, Placement):
+            raise ModelError(f"rolling disk '{name}': ground must be an eomgen.Placement (its xy plane)")
+        with self._changing():
+            self._register(f"rolling disk '{name}'", radius, axis, ground.rotation, ground.translation)
+        disk = Rolling(name, body, radius, axis, ground)
+        self.rolling.append(disk)
+        return disk
+
+    def constraint_rows(self) -> list[str]:
+        """Names of the rows of J_c: the contacts', the loops', the rolling disks' (in that order)."""
+        return [r for c in (*self.contacts, *self.loops, *self.rolling) for r in c.row_names]
+
+    def closure_rows(self) -> list[str]:
+        """Names of the position residuals: the loops' rows, then the rolling disks' heights."""
+        return [r for c in (*self.loops, *self.rolling) for r in c.closure_names]
 
     def point(self, ref) -> Point:
         """A point from: a frame or body name, a Body (its origin), (body or None, offset), or None (the
@@ -449,8 +503,9 @@ class System:
                                  "joint")
         if unknown:
             raise ModelError(f"reduced: unknown joints {unknown}; joints are {sorted(names)}")
-        if self.loads or self.contacts or self.motors:
-            raise ModelError("reduced: loads, contacts and motors are not carried over; add them to the reduced system")
+        if self.loads or self.contacts or self.motors or self.loops or self.rolling:
+            raise ModelError("reduced: loads, contacts, loops, rolling disks and motors are not carried over; "
+                             "add them to the reduced system")
 
         def weld(b):
             joint = b.joint
@@ -478,7 +533,7 @@ class System:
             args.update(change(b))
             new.add_body(b.name, parent=b.parent.name if b.parent else None, **args)
         for f in self.frames.values():
-            new.add_frame(f.name, f.body.name, f.placement)
+            new.add_frame(f.name, f.body and f.body.name, f.placement)
         new.continuous = getattr(self, "continuous", [False] * len(new.joints))
         return new
 

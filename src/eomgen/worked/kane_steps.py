@@ -19,12 +19,18 @@ def solution(k: KaneEquations, simplifier: Simplifier, title: str | None) -> Sol
     joint = {} if k.joint_speeds_are_rates else {"joint speeds": simplifier.matrix(u)}
     kinematic = (r"for $\dot q$." if k.joint_speeds_are_rates else r"for the joint speeds $u$, then "
                  r"$\dot q(q, u)$ (a quaternion ball joint's and a planar joint's $u$ are not rates).")
+    h = len(k.dependent_coordinates)
+    holonomic = {"holonomic constraints": simplifier.matrix(k.holonomic),
+                 "dependent coordinates": sp.Matrix(k.dependent_coordinates)} if h else {}
+    derivatives = (f" ({h} of them the time derivatives of the holonomic constraints f(q) = 0, which fix "
+                   f"{h} dependent coordinates)" if h else "")
     speeds = Step(
         "Speeds and constraints",
-        f"{n} generalized speeds, {n - p} velocity constraints, so {p} independent speeds. The "
+        f"{n} generalized speeds, {n - p} velocity constraints{derivatives}, so {p} independent speeds. The "
         "constraints, linear in the speeds, are solved for the dependent ones (a linear solve on "
         f"pivots proven nonzero), and the kinematic equations {kinematic}",
         {
+            **holonomic,
             "speeds": sp.Matrix(k.speeds),
             "independent speeds": sp.Matrix(k.independent),
             "dependent speeds": sp.Matrix(k.dependent),

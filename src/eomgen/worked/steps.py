@@ -290,7 +290,7 @@ def contacts(forms: Forms) -> Step:
     floating = any(isinstance(j, FreeFlyer) for j in system.joints)
     expressions = {"S": system.S}
     if system.contacts:
-        J_c = kin.contact_jacobian()[0]
+        J_c = kin.constraint_jacobian()[0]
         expressions["J_c"] = forms(J_c)
         n, k = len(system.u), J_c.rows
         M, J = sp.MatrixSymbol("M", n, n), sp.MatrixSymbol("J_c", k, n)

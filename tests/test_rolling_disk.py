@@ -1,0 +1,151 @@
+"""The rolling disk built with add_rolling (examples/rolling_disk.py: rails x, y, z, yaw, lean, spin; z
+and ẋ, ẏ, ż dependent; and on a free-flyer base) against sympy's KanesMethod of the classic disk (yaw,
+lean, spin; the contact point at rest, the centre R above it along the lean frame's z); upright rolling
+stable above ω² = g/(3R) by simulation (the linearized lean equation by hand gives the amplitude); bad
+input."""
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+import sympy.physics.mechanics as me
+from scipy.spatial.transform import Rotation
+
+import eomgen as eg
+import kane_systems as K
+
+sys.path.insert(0, str(Path(__file__).parents[1] / "examples"))
+from rolling_disk import LEAN, VALUES, critical_spin, roll, rolling_disk  # noqa: E402
+
+
+def classic_disk_sympy(lean_axis: str = "x", speeds: str = "rates"):
+    """sympy's KanesMethod of the disk: q = (yaw, lean, spin), R = Rz(yaw) R_lean R_spin with the lean
+    about `lean_axis` ("x": the axle y; "y": the axle x); speeds the angle rates or ω in disk axes
+    ("body"). The contact point has zero velocity (no slip), the centre G = contact + R e_z of the lean
+    frame. Returns (km, q, u, parameter values)."""
+    q = me.dynamicsymbols("q1:4")
+    u = me.dynamicsymbols("u1:4")
+    m, R, g = sp.symbols("m R g", positive=True)
+    N = me.ReferenceFrame("N")
+    A = N.orientnew("A", "Axis", [q[0], N.z])
+    lean, axle = (A.x, "y") if lean_axis == "x" else (A.y, "x")
+    B = A.orientnew("B", "Axis", [q[1], lean])
+    C = B.orientnew("C", "Axis", [q[2], getattr(B, axle)])
+    if speeds == "rates":
+        A.set_ang_vel(N, u[0] * N.z)
+        B.set_ang_vel(A, u[1] * lean)
+        C.set_ang_vel(B, u[2] * getattr(B, axle))
+        kd = [ui - qi.diff() for ui, qi in zip(u, q)]
+    else:
+        kd = [C.ang_vel_in(N).dot(e) - ui for e, ui in zip((C.x, C.y, C.z), u)]
+        C.set_ang_vel(N, u[0] * C.x + u[1] * C.y + u[2] * C.z)
+    contact = me.Point("contact")
+    contact.set_vel(N, 0)
+    G = contact.locatenew("G", R * B.z)
+    G.v2pt_theory(contact, N, C)
+    I = [m * R**2 / 4] * 3
+    I["xyz".index(axle)] = m * R**2 / 2
+    disk = me.RigidBody("disk", G, C, m, (me.inertia(C, *I), G))
+    km = me.KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=kd)
+    km.kanes_equations([disk], [(G, -m * g * N.z)])
+    return km, q, u, {m: VALUES["m"], R: VALUES["R"], g: VALUES["g"]}
+
+
+def free_disk(parametrization: str) -> tuple[eg.System, eg.KaneEquations]:
+    """The disk on a free-flyer base (axle x; ZYX Euler angles: yaw, lean = pitch, spin = roll; or the
+    quaternion with u = the base twist in disk axes), z dependent, the angular speeds independent."""
+    m, R, g = sp.symbols("m R g", positive=True)
+    system = eg.System(gravity=(0, 0, -g))
+    disk = system.add_body("disk", joint=eg.FreeFlyer("base", parametrization), mass=m,
+                           inertia=sp.diag(m * R**2 / 2, m * R**2 / 4, m * R**2 / 4))
+    system.add_rolling(disk, radius=R, axis=(1, 0, 0))
+    return system, eg.kane(system, dependent_coordinates=[system.q[2]], independent=list(system.u[3:]))
+
+
+def test_equals_sympy_classic_disk():
+    """At random consistent states (x, y anywhere, z = R cos(lean) by hand, |lean| < 1.3): M̃ and f̃ in
+    the yaw, lean and spin rates equal sympy's, the height residual is 0, ẋ, ẏ, ż make the contact
+    point's velocity zero (by hand: v_G = ω × R e_z of the lean frame)."""
+    system, k = rolling_disk()
+    assert k.dependent_coordinates == [system.q[2]] and k.dependent == list(system.u[:3])
+    f = eg.codegen(k)
+    km, qs, us, values = classic_disk_sympy()
+    rng = np.random.default_rng(4)
+    for _ in range(5):
+        x, y, yaw, spin = rng.uniform(-3, 3, 4)
+        lean = rng.uniform(-1.3, 1.3)
+        q = np.array([x, y, VALUES["R"] * np.cos(lean), yaw, lean, spin])
+        w = rng.uniform(-3, 3, 3)
+        np.testing.assert_allclose(f.holonomic_residual(q, VALUES), 0, atol=1e-15)
+        at = {**values, **dict(zip(qs, q[3:])), **dict(zip(us, w))}
+        np.testing.assert_allclose(f.mass_matrix(q, w, VALUES), K.number(km.mass_matrix, at), rtol=1e-12,
+                                   atol=1e-14)
+        np.testing.assert_allclose(f.forcing(q, w, VALUES), K.number(km.forcing, at)[:, 0], rtol=1e-12,
+                                   atol=1e-12)
+        c, s = np.cos, np.sin
+        e_z = np.array([s(yaw) * s(lean), -c(yaw) * s(lean), c(lean)])  # Rz(yaw) Rx(lean) e_z
+        e_y = np.array([-s(yaw) * c(lean), c(yaw) * c(lean), s(lean)])  # Rz(yaw) Rx(lean) e_y
+        omega = w[0] * np.array([0, 0, 1]) + w[1] * np.array([c(yaw), s(yaw), 0]) + w[2] * e_y
+        np.testing.assert_allclose(f.dependent_speeds(q, w, VALUES), np.cross(omega, VALUES["R"] * e_z),
+                                   atol=1e-13)
+
+
+@pytest.mark.parametrize("parametrization", ["euler", "quaternion"])
+def test_disk_on_a_free_flyer_equals_sympy(parametrization):
+    """The disk on a free flyer (add_rolling, axle x): M̃, f̃ in the ZYX angle rates, or in ω in disk axes
+    (quaternion), equal sympy's classic disk leaning about y, at random consistent states (the base's
+    height z = R cos(pitch), the quaternion's ZYX angles for sympy)."""
+    system, k = free_disk(parametrization)
+    f = eg.codegen(k)
+    km, qs, us, values = classic_disk_sympy("y", "rates" if parametrization == "euler" else "body")
+    rng = np.random.default_rng(5)
+    for _ in range(4):
+        yaw, spin, x, y = rng.uniform(-3, 3, 4)
+        lean = rng.uniform(-1.3, 1.3)
+        angles = Rotation.from_euler("ZYX", [yaw, lean, spin])
+        q = np.r_[x, y, VALUES["R"] * np.cos(lean), [yaw, lean, spin] if parametrization == "euler" else
+                  angles.as_quat()]
+        w = rng.uniform(-3, 3, 3)
+        np.testing.assert_allclose(f.holonomic_residual(q, VALUES), 0, atol=1e-15)
+        at = {**values, **dict(zip(qs, [yaw, lean, spin])), **dict(zip(us, w))}
+        np.testing.assert_allclose(f.mass_matrix(q, w, VALUES), K.number(km.mass_matrix, at), rtol=1e-12,
+                                   atol=1e-14)
+        np.testing.assert_allclose(f.forcing(q, w, VALUES), K.number(km.forcing, at)[:, 0], rtol=1e-11,
+                                   atol=1e-12)
+
+
+@pytest.mark.parametrize("factor", [1.2, 0.8])
+def test_upright_rolling_stable_above_critical_spin(factor):
+    """6 s from lean 0.02 rad at factor × ω_c, ω_c² = g/(3R). Linearized by hand (I = m R²/4, J = m R²/2,
+    k = factor²): (5/4) m R² φ̈ + m g R (k − 1) φ = m g R k φ0, so φ oscillates about k φ0/(k − 1) and
+    |φ| ≤ φ0 (2k/(k − 1) − 1) = 5.55 φ0 at 1.2 (within 5 %), and grows as e^(λt) at 0.8 (past 0.5 rad).
+    The height residual stays below 1e-9 without projection."""
+    system, k = rolling_disk()
+    f = eg.codegen(k)
+    sol = roll(f, factor, lean=0.02, seconds=6.0)
+    assert sol.success
+    lean = np.abs(sol.y[LEAN])
+    assert np.max(np.abs(f.holonomic_residual(sol.y[:6].T, VALUES))) < 1e-9
+    if factor > 1:
+        bound = 0.02 * (2 * factor**2 / (factor**2 - 1) - 1)
+        assert bound * 0.95 < lean.max() < bound * 1.05
+        assert lean[sol.t > 3].min() < 0.03  # back near the start: an oscillation, not a drift
+    else:
+        assert lean.max() > 0.5
+    assert critical_spin() == pytest.approx(np.sqrt(9.81 / 0.9))
+
+
+def test_rolling_needs_its_dependent_coordinate():
+    """The disk's height needs a dependent coordinate of its own, and three dependent speeds; a disk whose
+    axle is along the ground normal is refused where it is added."""
+    system, _ = rolling_disk()
+    with pytest.raises(eg.ModelError, match=r"rolling disks \['disk_rolling'\] \(one height each\) need"):
+        eg.kane(system, independent=list(system.u[3:]))
+    with pytest.raises(eg.ModelError, match="and 1 rolling disks .3 rows each. need as many dependent"):
+        eg.kane(system, dependent_coordinates=[system.q[2]], independent=list(system.u[2:]))
+    flat = eg.System()
+    body = flat.add_body("wheel", joint=eg.Translation("t"), mass=1, inertia=sp.eye(3))
+    with pytest.raises(eg.ModelError, match="axle is normal to the ground"):
+        flat.add_rolling(body, radius=0.3, axis=(0, 0, 1))
+        eg.kane(flat, dependent_coordinates=[flat.q[2]], independent=[])
