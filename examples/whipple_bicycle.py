@@ -21,7 +21,8 @@ BENCHMARK = {"w": 1.02, "c": 0.08, "lam": np.pi / 10, "g": 9.81,
              "x_H": 0.9, "z_H": -0.7, "m_H": 4.0, "I_Hxx": 0.05892, "I_Hyy": 0.06, "I_Hzz": 0.00708,
              "I_Hxz": -0.00756,
              "r_F": 0.35, "m_F": 3.0, "I_Fxx": 0.1405, "I_Fyy": 0.28}
-P = {name: sp.Symbol(name, real=True) for name in BENCHMARK}
+SIGNED = ("x_B", "z_B", "x_H", "z_H", "I_Bxz", "I_Hxz")  # the others are positive (so is g: the ground faces −z)
+P = {name: sp.Symbol(name, real=True, positive=name not in SIGNED or None) for name in BENCHMARK}
 
 
 def derivative(f, x0, h: float = 0.05, levels: int = 5) -> np.ndarray:
@@ -54,3 +55,66 @@ def stable_speeds(eigenvalues) -> tuple[float, float]:
     def abscissa(v):
         return eigenvalues(v).real.max()
     return brentq(abscissa, 4.0, 5.0, xtol=1e-14), brentq(abscissa, 5.0, 7.0, xtol=1e-14)
+
+
+def bicycle() -> tuple[eg.System, eg.KaneEquations]:
+    """The bicycle from its parts, in the benchmark's axes (x forward, y right, z down; gravity +z):
+    the rear frame B on a free-flying base (x, y, z, yaw, pitch, roll; origin at the rear wheel's
+    centre), the rear wheel R spinning about its axle y, the front frame H steering about the axis
+    tilted back by λ through the point at trail c ahead of the front contact, the front wheel F, and two
+    rolling disks. Kane's equations in the roll, steer and rear spin rates; z and the pitch follow from the
+    wheels' contacts (holonomic), the other speeds from rolling without slip."""
+    p = P
+    system = eg.System(gravity=(0, 0, p["g"]))
+    rear = system.add_body("rear_frame", joint=eg.FreeFlyer("rear", parametrization="euler"), mass=p["m_B"],
+                           com=(p["x_B"], 0, p["z_B"] + p["r_R"]),
+                           inertia=sp.Matrix([[p["I_Bxx"], 0, p["I_Bxz"]], [0, p["I_Byy"], 0],
+                                              [p["I_Bxz"], 0, p["I_Bzz"]]]))
+    rear_wheel = system.add_body("rear_wheel", parent=rear, joint=eg.Revolute("spin_R", axis=(0, 1, 0)),
+                                 mass=p["m_R"], inertia=sp.diag(p["I_Rxx"], p["I_Ryy"], p["I_Rxx"]))
+    steer = eg.Revolute("steer", axis=(sp.sin(p["lam"]), 0, sp.cos(p["lam"])))  # down the steer axis
+    front = system.add_body("front_frame", parent=rear, joint=steer, mass=p["m_H"],
+                            placement=eg.Placement(translation=(p["w"] + p["c"], 0, p["r_R"])),  # on the ground
+                            com=(p["x_H"] - p["w"] - p["c"], 0, p["z_H"]),
+                            inertia=sp.Matrix([[p["I_Hxx"], 0, p["I_Hxz"]], [0, p["I_Hyy"], 0],
+                                               [p["I_Hxz"], 0, p["I_Hzz"]]]))
+    front_wheel = system.add_body("front_wheel", parent=front, joint=eg.Revolute("spin_F", axis=(0, 1, 0)),
+                                  placement=eg.Placement(translation=(-p["c"], 0, -p["r_F"])),
+                                  mass=p["m_F"], inertia=sp.diag(p["I_Fxx"], p["I_Fyy"], p["I_Fxx"]))
+    system.add_rolling(rear_wheel, radius=p["r_R"])
+    system.add_rolling(front_wheel, radius=p["r_F"])
+    x, y, z, yaw, pitch, roll, spin_R, delta, spin_F = system.q
+    u = dict(zip(system.q, system.u))
+    k = eg.kane(system, dependent_coordinates=[z, pitch], independent=[u[roll], u[delta], u[spin_R]])
+    return system, k
+
+
+def accelerations(f, values: dict = BENCHMARK):
+    """(φ̈, δ̈)(x, v) of the generated equations `f` at x = (roll φ, steer δ, φ̇, δ̇), rolling at speed v:
+    q assembled (z and pitch from the contacts), w = (φ̇, δ̇, rear spin −v/r_R)."""
+    def at(x, v):
+        phi, delta, phid, deltad = x
+        q = f.assemble(np.array([0, 0, -values["r_R"], 0, 0, phi, 0, delta, 0]), values)
+        return f.rhs(0.0, np.r_[q, phid, deltad, -v / values["r_R"]], values)[-3:-1]
+    return at
+
+
+def eigenvalues(f, v: float) -> np.ndarray:
+    """The eigenvalues of the linearized bicycle at speed v, sorted (numpy.sort_complex)."""
+    return np.sort_complex(np.linalg.eigvals(state_matrix(accelerations(f), v)))
+
+
+def main() -> None:
+    system, k = bicycle()
+    f = eg.codegen(k)
+    print(f"{len(system.q)} coordinates {list(system.q)}; Kane's equations in {k.independent}, dependent "
+          f"speeds {k.dependent}, dependent coordinates {k.dependent_coordinates}")
+    print(f"\n{'v [m/s]':>7s}  eigenvalues of the linearized bicycle (roll, steer, their rates)")
+    for v in range(11):
+        print(f"{v:7d}  " + "  ".join(f"{e.real:+.10f}{e.imag:+.10f}i" for e in eigenvalues(f, float(v))))
+    weave, capsize = stable_speeds(lambda v: eigenvalues(f, v))
+    print(f"\nweave speed {weave:.12f} m/s, capsize speed {capsize:.12f} m/s: self-stable in between")
+
+
+if __name__ == "__main__":
+    main()
