@@ -7,6 +7,7 @@ Run: python benchmarks/bicycle.py [--out benchmarks/results/bicycle.json]"""
 from __future__ import annotations
 
 import argparse
+import ast
 import sys
 import time
 from pathlib import Path
@@ -20,7 +21,9 @@ import eomgen as eg
 
 sys.path.insert(0, str(Path(__file__).parent))
 sys.path.insert(0, str(Path(__file__).parents[1] / "examples"))
+sys.path.insert(0, str(Path(__file__).parents[1] / "tests"))
 import results_io  # noqa: E402
+import test_bicycle as published  # noqa: E402
 import whipple_bicycle as bike  # noqa: E402
 
 t = me.dynamicsymbols._t
@@ -76,7 +79,8 @@ def sympy_bicycle() -> tuple[me.KanesMethod, dict]:
                            (me.inertia(E, p["I_Fxx"], p["I_Fyy"], p["I_Fxx"]), centre_F))]
     loads = [(body.masscenter, body.mass * p["g"] * N.z) for body in bodies]
     v_Q = contact_F.vel(N)
-    km = me.KanesMethod(N, q_ind=[q1, q2, q4], u_ind=[u2, u4, u5], kd_eqs=[qi.diff(t) - ui for qi, ui in zip(q, u)],
+    km = me.KanesMethod(N, q_ind=[q1, q2, q4], u_ind=[u2, u4, u5],
+                        kd_eqs=[qi.diff(t) - ui for qi, ui in zip(q, u)],
                         q_dependent=[q3], configuration_constraints=[contact_F.pos_from(contact_R) & N.z],
                         u_dependent=[u6, u1, u3],  # pivots nonzero upright: x by spin, y by yaw, z by pitch
                         velocity_constraints=[v_Q & A.x, v_Q & A.y, v_Q & A.z])
@@ -85,13 +89,17 @@ def sympy_bicycle() -> tuple[me.KanesMethod, dict]:
                 "constraints": sp.Matrix([v_Q & A.x, v_Q & A.y, v_Q & A.z])}
 
 
+def plain_symbols(extra: dict) -> dict:
+    """q(t), u(t) → plain symbols (to lambdify and print)."""
+    return {s: sp.Symbol(f"_{s.func.__name__}") for s in [*extra["q"], *extra["u"]]}
+
+
 def sympy_accelerations(km: me.KanesMethod, extra: dict):
-    """(φ̈, δ̈)(x, v) of the KanesMethod bicycle at x = (φ, δ, φ̇, δ̇), rolling at speed v (rear spin −v/r_R):
-    pitch from the front contact's height = 0 (secant iteration), the dependent speeds from the
+    """(φ̈, δ̈)(x, v) of the KanesMethod bicycle at x = (φ, δ, φ̇, δ̇), rolling at speed v (rear spin
+    −v/r_R): pitch from the front contact's height = 0 (secant iteration), the dependent speeds from the
     velocity constraints, u̇ from the mass matrix and forcing of all six speeds."""
     q, u = extra["q"], extra["u"]
-    plain = {s: sp.Symbol(f"_{s.func.__name__}") for s in [*q, *u]}
-    plain |= {bike.P[name]: value for name, value in bike.BENCHMARK.items()}
+    plain = plain_symbols(extra) | {bike.P[name]: value for name, value in bike.BENCHMARK.items()}
     args = [[plain[s] for s in q], [plain[s] for s in u]]
     height = sp.lambdify(args[0], extra["height"].xreplace(plain))
     C_u = sp.lambdify(args, extra["constraints"].jacobian(u).xreplace(plain), cse=True)
@@ -110,3 +118,61 @@ def sympy_accelerations(km: me.KanesMethod, extra: dict):
         ud = np.linalg.solve(np.array(M(qs, us), dtype=float), np.array(F(qs, us), dtype=float))
         return ud[rows, 0]
     return accelerations
+
+
+def timed(fn):
+    t0 = time.perf_counter()
+    out = fn()
+    return time.perf_counter() - t0, out
+
+
+def eigenvalue_error(accelerations) -> float:
+    """The largest distance of the linearized eigenvalues from the published ones, v = 0 … 10 m/s."""
+    return max(np.abs(np.sort_complex(np.linalg.eigvals(bike.state_matrix(accelerations, float(v))))
+                      - published.published_eigenvalues(v)).max() for v in range(11))
+
+
+def code_ops(source: str) -> int:
+    """Operations in Python source, counted alike for both: arithmetic (binary), negations, calls."""
+    return sum(isinstance(node, (ast.BinOp, ast.UnaryOp, ast.Call)) for node in ast.walk(ast.parse(source)))
+
+
+def eomgen_row() -> dict:
+    """eg.kane on the bicycle from its parts, then eg.codegen: the generated functions (M, h, Y, C, rates,
+    holonomic; the linear solves are numeric), their operations."""
+    t_derive, (_, k) = timed(bike.bicycle)
+    t_code, f = timed(lambda: eg.codegen(k))
+    ops = {key: code_ops(g.source) for key, g in f.functions.items()}
+    return {"method": "eomgen kane", "derive_s": t_derive, "codegen_s": t_code, "ops": sum(ops.values()),
+            "ops_by_function": ops, "max_eigenvalue_error": eigenvalue_error(bike.accelerations(f))}
+
+
+def sympy_row() -> dict:
+    """KanesMethod (the constraints solved symbolically, LU), then sympy.cse of its mass matrix and
+    forcing (all six speeds) printed as Python (sympy.pycode), its operations."""
+    t_derive, (km, extra) = timed(sympy_bicycle)
+    equations = [e.xreplace(plain_symbols(extra)) for e in [*km.mass_matrix, *km.forcing]]
+    t_code, (common, outputs) = timed(lambda: sp.cse(equations))
+    source = "\n".join([f"{s} = {sp.pycode(e)}" for s, e in [*common, *(("_", e) for e in outputs)]])
+    return {"method": "sympy KanesMethod", "derive_s": t_derive, "codegen_s": t_code,
+            "ops": code_ops(source),
+            "max_eigenvalue_error": eigenvalue_error(sympy_accelerations(km, extra))}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default=results_io.default_path("bicycle"))
+    args = ap.parse_args()
+    rows = [eomgen_row(), sympy_row()]
+    print(f"{'Whipple bicycle':20s} {'derive [s]':>10s} {'code [s]':>9s} {'operations':>11s} "
+          f"{'eigenvalues vs published':>25s}")
+    for r in rows:
+        print(f"{r['method']:20s} {r['derive_s']:10.2f} {r['codegen_s']:9.2f} {r['ops']:11d} "
+              f"{r['max_eigenvalue_error']:25.1e}")
+    print("code: eg.codegen, or sympy.cse of KanesMethod's mass matrix and forcing; operations: of the "
+          "generated Python, counted alike")
+    results_io.write(args.out, "bicycle", rows, sympy=sp.__version__)
+
+
+if __name__ == "__main__":
+    main()

@@ -21,7 +21,7 @@ BENCHMARK = {"w": 1.02, "c": 0.08, "lam": np.pi / 10, "g": 9.81,
              "x_H": 0.9, "z_H": -0.7, "m_H": 4.0, "I_Hxx": 0.05892, "I_Hyy": 0.06, "I_Hzz": 0.00708,
              "I_Hxz": -0.00756,
              "r_F": 0.35, "m_F": 3.0, "I_Fxx": 0.1405, "I_Fyy": 0.28}
-SIGNED = ("x_B", "z_B", "x_H", "z_H", "I_Bxz", "I_Hxz")  # the others are positive (so is g: the ground faces −z)
+SIGNED = ("x_B", "z_B", "x_H", "z_H", "I_Bxz", "I_Hxz")  # the others positive: g > 0, the ground faces −z
 P = {name: sp.Symbol(name, real=True, positive=name not in SIGNED or None) for name in BENCHMARK}
 
 
@@ -57,6 +57,12 @@ def stable_speeds(eigenvalues) -> tuple[float, float]:
     return brentq(abscissa, 4.0, 5.0, xtol=1e-14), brentq(abscissa, 5.0, 7.0, xtol=1e-14)
 
 
+def inertia(body: str) -> sp.Matrix:
+    """The inertia matrix of the rear body "B" or the front assembly "H" (symmetric about the xz plane)."""
+    I = {k: P[f"I_{body}{k}"] for k in ("xx", "yy", "zz", "xz")}
+    return sp.Matrix([[I["xx"], 0, I["xz"]], [0, I["yy"], 0], [I["xz"], 0, I["zz"]]])
+
+
 def bicycle() -> tuple[eg.System, eg.KaneEquations]:
     """The bicycle from its parts, in the benchmark's axes (x forward, y right, z down; gravity +z):
     the rear frame B on a free-flying base (x, y, z, yaw, pitch, roll; origin at the rear wheel's
@@ -68,16 +74,14 @@ def bicycle() -> tuple[eg.System, eg.KaneEquations]:
     system = eg.System(gravity=(0, 0, p["g"]))
     rear = system.add_body("rear_frame", joint=eg.FreeFlyer("rear", parametrization="euler"), mass=p["m_B"],
                            com=(p["x_B"], 0, p["z_B"] + p["r_R"]),
-                           inertia=sp.Matrix([[p["I_Bxx"], 0, p["I_Bxz"]], [0, p["I_Byy"], 0],
-                                              [p["I_Bxz"], 0, p["I_Bzz"]]]))
+                           inertia=inertia("B"))
     rear_wheel = system.add_body("rear_wheel", parent=rear, joint=eg.Revolute("spin_R", axis=(0, 1, 0)),
                                  mass=p["m_R"], inertia=sp.diag(p["I_Rxx"], p["I_Ryy"], p["I_Rxx"]))
     steer = eg.Revolute("steer", axis=(sp.sin(p["lam"]), 0, sp.cos(p["lam"])))  # down the steer axis
-    front = system.add_body("front_frame", parent=rear, joint=steer, mass=p["m_H"],
-                            placement=eg.Placement(translation=(p["w"] + p["c"], 0, p["r_R"])),  # on the ground
+    at_ground = eg.Placement(translation=(p["w"] + p["c"], 0, p["r_R"]))  # the steer axis meets the ground
+    front = system.add_body("front_frame", parent=rear, joint=steer, mass=p["m_H"], placement=at_ground,
                             com=(p["x_H"] - p["w"] - p["c"], 0, p["z_H"]),
-                            inertia=sp.Matrix([[p["I_Hxx"], 0, p["I_Hxz"]], [0, p["I_Hyy"], 0],
-                                               [p["I_Hxz"], 0, p["I_Hzz"]]]))
+                            inertia=inertia("H"))
     front_wheel = system.add_body("front_wheel", parent=front, joint=eg.Revolute("spin_F", axis=(0, 1, 0)),
                                   placement=eg.Placement(translation=(-p["c"], 0, -p["r_F"])),
                                   mass=p["m_F"], inertia=sp.diag(p["I_Fxx"], p["I_Fyy"], p["I_Fxx"]))
