@@ -22,7 +22,8 @@ BENCHMARK = {"w": 1.02, "c": 0.08, "lam": np.pi / 10, "g": 9.81,
              "I_Hxz": -0.00756,
              "r_F": 0.35, "m_F": 3.0, "I_Fxx": 0.1405, "I_Fyy": 0.28}
 SIGNED = ("x_B", "z_B", "x_H", "z_H", "I_Bxz", "I_Hxz")  # the others positive: g > 0, the ground faces −z
-P = {name: sp.Symbol(name, real=True, positive=name not in SIGNED or None) for name in BENCHMARK}
+P = {name: sp.Symbol(name, real=True) if name in SIGNED else sp.Symbol(name, positive=True)
+     for name in BENCHMARK}
 
 
 def derivative(f, x0, h: float = 0.05, levels: int = 5) -> np.ndarray:

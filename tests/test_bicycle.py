@@ -71,6 +71,11 @@ def test_published_matrices_give_the_published_table(v):
     assert np.abs(published_eigenvalues(v) - table_2(v)).max() < 1e-12
 
 
+def test_published_matrices_give_the_published_speeds():
+    weave, capsize = bike.stable_speeds(published_eigenvalues)
+    assert abs(weave - WEAVE) < 1e-13 and abs(capsize - CAPSIZE) < 1e-13
+
+
 def test_upright_running(f):
     """Assembled upright: the rear wheel's centre at height r_R, no pitch; rolling at v = 5 m/s the rear
     frame moves forward at v, the front wheel spins at −v/r_F; the roll–steer block of Kane's mass matrix
