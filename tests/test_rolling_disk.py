@@ -3,6 +3,7 @@ and ẋ, ẏ, ż dependent; and on a free-flyer base) against sympy's KanesMetho
 lean, spin; the contact point at rest, the centre R above it along the lean frame's z); upright rolling
 stable above ω² = g/(3R) by simulation (the linearized lean equation by hand gives the amplitude); bad
 input."""
+import runpy
 import sys
 from pathlib import Path
 
@@ -149,3 +150,12 @@ def test_rolling_needs_its_dependent_coordinate():
     with pytest.raises(eg.ModelError, match="axle is normal to the ground"):
         flat.add_rolling(body, radius=0.3, axis=(0, 0, 1))
         eg.kane(flat, dependent_coordinates=[flat.q[2]], independent=[])
+
+
+def test_example_prints_both_rates(capsys):
+    """examples/rolling_disk.py prints the critical rate and both runs: up at 1.2 ×, leaning far at 0.8 ×."""
+    runpy.run_path(str(Path(__file__).parents[1] / "examples" / "rolling_disk.py"), run_name="__main__")
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].startswith("critical spin rate √(g/(3R)) = 3.3015 rad/s")
+    assert lines[1].startswith("1.2 × ω_c") and "stayed up" in lines[1]
+    assert lines[2].startswith("0.8 × ω_c") and float(lines[2].split("largest |lean| ")[1].split()[0]) > 0.5

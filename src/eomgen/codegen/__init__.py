@@ -331,10 +331,12 @@ class NumericEoM:
         """(u̇, F_c) with every contact, loop and rolling disk held: F_c = −(J M⁻¹ Jᵀ)⁻¹ (J M⁻¹ h + J̇ u),
         the constraint forces on the system, stacked like J_c's rows (0 on rows no motion can violate)."""
         names, active = self._contacts(), self._active(params)
+        F = np.zeros(len(names))
+        if not active.any():
+            return self.forward_dynamics(q, u, tau_a, params), F
         u_dot, F_active = contact_dynamics(
             self.M(q, params), self._h(q, u, tau_a, params), self.contact_jacobian(q, params)[active],
             self.contact_jacobian_dot_u(q, u, params)[active], [n for n, a in zip(names, active) if a])
-        F = np.zeros(len(names))
         F[active] = F_active
         return u_dot, F
 

@@ -7,6 +7,10 @@ velocity constraints linear in w into p independent and m dependent ones:
 
     Y(q) u + K(q) w + k0(q) = 0,        C(q) w + c0(q) = 0,   C w = C_dep w_dep + C_ind w_ind.
 
+Holonomic constraints f(q) = 0 (given, and the heights of the rolling disks) fix as many dependent
+coordinates; their derivatives ḟ = ∂f/∂q q̇(q, u) are the first rows of C w + c0 = 0 (with u in w from
+the kinematic equations), the rolling disks' no-slip rows the last.
+
 The equations of motion in u, M(q) u̇ = h(q, u) (projected Newton-Euler: h = τ_loads − b − g, i.e.
 Kane's F_r + F*_r with the holonomic partial velocities, the columns of J_P and J_R) are derived
 symbolically, with Y, K, k0, C, c0 and their time derivatives at u̇ = 0, ẇ = 0 (ḟ(q) = ∂f/∂q q̇(q, u)).
@@ -296,19 +300,7 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
         None if exprs is None else _expressions(system, exprs, what, speeds)
         for exprs, what in ((kinematic_equations, "kinematic equation"),
                             (nonholonomic, "nonholonomic constraint"), (holonomic, "holonomic constraint")))
-    if kinematic_equations is None:
-        if speeds != u:
-            raise ModelError("kane: new speeds need kinematic_equations (Y u + K w + k0 = 0, u = system.u)")
-        kinematic_equations = [w - x for w, x in zip(speeds, u)]  # w = u: the same symbols
-        Y, K, k0 = sp.eye(n), -sp.eye(n), sp.zeros(n, 1)
-    else:
-        if len(kinematic_equations) != n:
-            raise ModelError(f"kane: {n} kinematic equations needed, got {len(kinematic_equations)}")
-        if set(speeds) & set(u):
-            raise ModelError(f"kane: speeds with kinematic_equations must be new symbols, not the joint "
-                             f"speeds {u}")
-        YK, k0 = _linear(kinematic_equations, u + speeds, "kinematic equation")
-        Y, K = YK[:, :n], YK[:, n:]
+    kinematic_equations, (Y, K, k0) = _kinematic(kinematic_equations, u, speeds)
     nonholonomic = list(nonholonomic or [])
     holonomic = list(holonomic or [])
     dependent_coordinates = _dependent_coordinates(system, holonomic, dependent_coordinates, speeds)
@@ -320,8 +312,8 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     disks = len(system.rolling)
     if len(dependent) != len(holonomic) + len(nonholonomic) + 3 * disks:
         raise ModelError(f"kane: {len(holonomic)} holonomic and {len(nonholonomic)} nonholonomic "
-                         f"constraints and {disks} rolling disks (3 rows each) need as many dependent speeds, "
-                         f"got {dependent}")
+                         f"constraints and {disks} rolling disks (3 rows each) need as many dependent "
+                         f"speeds, got {dependent}")
     for i, e in enumerate(nonholonomic):
         stray = sp.sympify(e).free_symbols & (set(u) - set(speeds))
         if stray:
@@ -334,19 +326,7 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     kin = Kinematics(system)
     sub = kin.sub
     eom = projected_newton_euler.derive(kin)
-    f = sub.add_matrix(sp.Matrix(len(holonomic), 1, holonomic))
-    in_u = [(configuration_jacobian(sub, f, q) * system.qdot.jacobian(u), sp.zeros(f.rows, 1), None)]
-    wheels = [rolling_rows(kin, disk) for disk in system.rolling]  # in u: (A, a0, A rates)
-    in_u += [(r.J[2:, :], sp.zeros(1, 1), r.Jdot_u[2:, :]) for r in wheels]  # ḟ = ∂f/∂q q̇(q, u)
-    slip = [(r.J[:2, :], sp.zeros(2, 1), r.Jdot_u[:2, :]) for r in wheels]
-    f = f.col_join(sp.Matrix(len(wheels), 1, [r.residual[0] for r in wheels]))
-    rows = [(sp.zeros(0, n), sp.zeros(0, 1), sp.zeros(0, 1))]  # (C, c0, rates) of each kind
-    rows += _in_speeds(kin, in_u, speeds, (Y, K, k0)) if f.rows else []
-    if nonholonomic:
-        C, c0 = _linear(nonholonomic, speeds, "nonholonomic constraint")
-        rows.append((C, c0, kin.time_derivative(sp.Matrix(nonholonomic))))
-    rows += _in_speeds(kin, slip, speeds, (Y, K, k0)) if slip else []
-    C, c0 = (sp.Matrix.vstack(*(r[i] for r in rows)) for i in (0, 1))
+    f, C, c0, constraint_rates = _constraints(kin, holonomic, nonholonomic, speeds, (Y, K, k0))
     F_dep = configuration_jacobian(sub, f, dependent_coordinates)
     Cd = sub.add_matrix(C[:, [speeds.index(s) for s in dependent]])
     Yn = sub.add_matrix(Y)
@@ -354,8 +334,7 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
                             "the constraints' matrix of the dependent speeds C_dep": Cd,
                             "the speed map (∂ kinematic equations / ∂u) Y": Yn},
                       q, parameters)
-    rates = kin.time_derivative(sp.Matrix(kinematic_equations)).col_join(  # u̇, ẇ = 0
-        sp.Matrix.vstack(*(r[2] for r in rows)))
+    rates = kin.time_derivative(sp.Matrix(kinematic_equations)).col_join(constraint_rates)  # u̇ = ẇ = 0
     gravity = -eom.compact["g"]
     compact = {"M": eom.compact["M"],
                "h": (eom.tau_compact - eom.compact["b"] + gravity).row_join(eom.tau_compact + gravity),
@@ -364,6 +343,44 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
                "holonomic": f.row_join(F_dep)}
     return KaneEquations(system, kin, speeds, independent, dependent, compact, parameters, eom,
                          dependent_coordinates=dependent_coordinates)
+
+
+def _kinematic(equations, u: list, speeds: list) -> tuple[list, tuple]:
+    """The kinematic equations (w − u = 0 when none are given and w = u) and (Y, K, k0) of
+    Y u + K w + k0 = 0."""
+    n = len(u)
+    if equations is None:
+        if speeds != u:
+            raise ModelError("kane: new speeds need kinematic_equations (Y u + K w + k0 = 0, u = system.u)")
+        return [w - x for w, x in zip(speeds, u)], (sp.eye(n), -sp.eye(n), sp.zeros(n, 1))
+    if len(equations) != n:
+        raise ModelError(f"kane: {n} kinematic equations needed, got {len(equations)}")
+    if set(speeds) & set(u):
+        raise ModelError(f"kane: speeds with kinematic_equations must be new symbols, not the joint "
+                         f"speeds {u}")
+    YK, k0 = _linear(equations, u + speeds, "kinematic equation")
+    return equations, (YK[:, :n], YK[:, n:], k0)
+
+
+def _constraints(kin: Kinematics, holonomic: list, nonholonomic: list, speeds: list, kinematic: tuple):
+    """(f, C, c0, rates): the holonomic residuals f(q) (the given ones, then each rolling disk's height)
+    and the velocity constraints C w + c0 = 0 with their rates d/dt at ẇ = 0, stacked: ḟ = ∂f/∂q q̇(q, u)
+    (the disks' J_n u), then the nonholonomic ones (the given ones, then the disks' no-slip J_t u)."""
+    system, sub, n = kin.system, kin.sub, kin.n
+    f = sub.add_matrix(sp.Matrix(len(holonomic), 1, holonomic))
+    F_q = configuration_jacobian(sub, f, kin.q)
+    in_u = [(F_q * system.qdot.jacobian(kin.u), sp.zeros(f.rows, 1), None)]
+    wheels = [rolling_rows(kin, disk) for disk in system.rolling]  # in u: (A, a0, rates of A u)
+    in_u += [(r.J[2:, :], sp.zeros(1, 1), r.Jdot_u[2:, :]) for r in wheels]
+    slip = [(r.J[:2, :], sp.zeros(2, 1), r.Jdot_u[:2, :]) for r in wheels]
+    f = f.col_join(sp.Matrix(len(wheels), 1, [r.residual[0] for r in wheels]))
+    rows = [(sp.zeros(0, n), sp.zeros(0, 1), sp.zeros(0, 1))]
+    rows += _in_speeds(kin, in_u, speeds, kinematic) if f.rows else []
+    if nonholonomic:
+        C, c0 = _linear(nonholonomic, speeds, "nonholonomic constraint")
+        rows.append((C, c0, kin.time_derivative(sp.Matrix(nonholonomic))))
+    rows += _in_speeds(kin, slip, speeds, kinematic) if slip else []
+    return (f, *(sp.Matrix.vstack(*(r[i] for r in rows)) for i in range(3)))
 
 
 def _dependent_coordinates(system: System, holonomic: list, coordinates, speeds: list) -> list[sp.Symbol]:
