@@ -92,10 +92,22 @@ def assemble(system_or_f, q_guess, fixed=(), params=None, tol: float = 1e-12,
                      f"'{f.closure_rows[worst]}' = {r[worst]:.3e}")
 
 
+def unit_quaternions(system: System, q) -> np.ndarray:
+    """q with each quaternion (free flyer, ball joint) divided by its norm."""
+    q = np.array(q, dtype=float)
+    for b in system.bodies:
+        if b.index is not None and b.joint.group in ("SO3", "SE3"):
+            k = b.q_index + 3 * (b.joint.group == "SE3")
+            q[k:k + 4] /= np.linalg.norm(q[k:k + 4])
+    return q
+
+
 def project(system_or_f, q, u, params=None, tol: float = 1e-12) -> tuple[np.ndarray, np.ndarray]:
-    """(q, u) on the constraint manifold: q ← `assemble`(q) with nothing held (the minimum-norm
-    correction), then u ← N_c u = u − M⁻¹ J_cᵀ (J_c M⁻¹ J_cᵀ)⁺ J_c u, the speeds with J_c u = 0 (every row:
-    contacts, loops, no-slip) nearest to u in kinetic energy, min (u' − u)ᵀ M (u' − u)."""
+    """(q, u) on the constraint manifold: unit quaternions, q assembled (`assemble`) with nothing held
+    (the minimum-norm correction), then u ← N_c u = u − M⁻¹ J_cᵀ (J_c M⁻¹ J_cᵀ)⁺ J_c u, the speeds with
+    J_c u = 0 (every row: contacts, loops, no-slip) nearest to u in kinetic energy,
+    min (u' − u)ᵀ M (u' − u)."""
     f = numeric(system_or_f, "project")
-    q = assemble(f, q, params=params, tol=tol) if f.closure_rows else np.asarray(q, dtype=float)
+    q = unit_quaternions(f.eom.system, q)
+    q = assemble(f, q, params=params, tol=tol) if f.closure_rows else q
     return q, f.support_projector(q, params) @ np.asarray(u, dtype=float)

@@ -49,6 +49,8 @@ class Reduced:
         self.dependent = [i for i in range(self.f.nv) if i not in self.independent]
         self.u_independent = [system.u[i] for i in self.independent]
         self._forms: dict[bool, ReducedForms] = {}
+        if not system.parameters:  # else checked with the first call's params
+            self._rows(None)
 
     def _rows(self, params) -> np.ndarray:
         """The rows of J_c some motion can violate, one per dependent speed (refused otherwise)."""

@@ -3,7 +3,7 @@
 The state x = [q, u] moves by q̇ = q̇(q, u) (`System.qdot`) and the constrained dynamics u̇ of
 `constrained_dynamics` (J_c u̇ + J̇_c u = 0, forces by the contact machinery), on SciPy's integrators.
 Integration holds the constraint's second derivative only, so r(q) and J_c u drift; `stabilization`:
-- "projection": after each accepted step (q, u) ← `eg.project`(q, u) (q back on r = 0 by Gauss–Newton,
+- "projection": after each accepted step (q, u) ← eg.project(q, u) (q back on r = 0 by Gauss–Newton,
   u ← u − M⁻¹ J_cᵀ (J_c M⁻¹ J_cᵀ)⁺ J_c u); explicit Runge–Kutta methods, whose state is (t, x, ẋ);
 - "baumgarte": J_c u̇ + J̇_c u = −2 α J_c u − β² r (r on the rows that have a position residual);
 - None: the drift left as it grows."""

@@ -12,6 +12,7 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..methods.kane import KaneEquations
+from ..state import random_states
 from .contacts import contact_dynamics, support_projector
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
@@ -328,11 +329,10 @@ class NumericEoM:
 
     def _active(self, params) -> np.ndarray:
         """The rows of J_c that some motion can violate: rows of J_c and J̇_c u that vanish at three random
-        states (the z row of a loop in a plane mechanism) carry no force and stay out of the solve."""
+        states (`random_states`: unit quaternions; the z row of a loop in a plane mechanism) carry no force
+        and stay out of the solve."""
         if self._active_rows is None:
-            rng = np.random.default_rng(0)
-            q, u = rng.uniform(-np.pi, np.pi, (2, 3, max(self.nq, self.nv)))
-            q, u = q[:, :self.nq], u[:, :self.nv]
+            q, u, _ = random_states(self.eom.system, 3, np.random.default_rng(0))
             rows = [np.abs(self.contact_jacobian(q[k], params)).max(axis=1)
                     + np.abs(self.contact_jacobian_dot_u(q[k], u[k], params)) for k in range(3)]
             self._active_rows = np.max(rows, axis=0) > 0
