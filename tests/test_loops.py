@@ -179,6 +179,22 @@ def test_simulation_keeps_the_loop_closed():
     assert loose["projection"] <= 1e-12 < 1e-7 < loose[None] and loose["baumgarte"] < loose[None] / 10
 
 
+def test_c_backend_and_output_times():
+    """The compiled functions serve assemble and reduce alike; simulate at given times (projection: each
+    interpolated and projected; Baumgarte: solve_ivp's) keeps the loop closed."""
+    eom, _, _ = numeric()
+    f = eg.codegen(eom, backend="c")
+    q = eg.assemble(f, closed_form(1.0) + [0, 0.1, 0.1], fixed=["th1"])
+    np.testing.assert_allclose(q, closed_form(1.0), atol=1e-11)
+    np.testing.assert_allclose(eg.reduce(f, ["th1"]).M(q)[0, 0], hand()["J"](*_angles(q)), rtol=1e-12)
+    times = np.linspace(0, 1, 11)
+    x0 = (q, eg.reduce(f, ["th1"]).R(q) @ [1.0])
+    for stabilization in ("projection", "baumgarte"):
+        sim = eg.simulate(f, x0, (0, 1), stabilization=stabilization, t_eval=times)
+        np.testing.assert_array_equal(sim.t, times)
+        assert sim.closure_drift.max() <= 1e-10
+
+
 def test_bad_loops_and_reductions_are_refused():
     """A loop between a frame and itself, between two frames on one body; reduce with an unknown name,
     with too few independent speeds, and at the toggle position (crank and coupler in line: th3 cannot
@@ -199,6 +215,12 @@ def test_bad_loops_and_reductions_are_refused():
     assert np.linalg.norm(f.closure_residual(q)) < 1e-12
     with pytest.raises(eg.ModelError, match=r"J_d is singular .* dependent speeds \['th1dot', 'th2dot'\]"):
         eg.reduce(eom, ["th3"]).M(q)
+    with pytest.raises(eg.ModelError, match="stabilization must be one of"):
+        eg.simulate(f, (q, np.zeros(3)), (0, 1), stabilization="stiff")
+    with pytest.raises(eg.ModelError, match="projection needs an explicit Runge–Kutta method"):
+        eg.simulate(f, (q, np.zeros(3)), (0, 1), method="LSODA")
+    with pytest.raises(eg.ModelError, match="x0 must be"):
+        eg.simulate(f, q, (0, 1))
 
 
 @pytest.mark.slow

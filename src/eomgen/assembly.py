@@ -20,7 +20,7 @@ HALVINGS = 30  # step halvings before a Gauss–Newton step counts as stalled (a
 
 def numeric(system_or_f, entry: str) -> NumericEoM:
     """The numeric functions of a System (derived with method "recursive"), of an EquationsOfMotion, or
-    the functions themselves (`eg.codegen`, NumPy or C)."""
+    the functions themselves (`eg.codegen`, NumPy or C: give these for repeated calls)."""
     if isinstance(system_or_f, NumericEoM):
         return system_or_f
     if isinstance(system_or_f, EquationsOfMotion):
