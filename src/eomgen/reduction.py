@@ -64,12 +64,11 @@ class Reduced:
 
     def _J_d(self, q, params) -> tuple[np.ndarray, np.ndarray]:
         """(J_d, J_i), J_d refused when singular at q (naming the rows and speeds it cannot resolve)."""
-        active = self._rows(params)
-        J = self.f.contact_jacobian(q, params)[active]
+        self._rows(params)
+        _, J, rows = self.f._held(q, params)
         J_d = J[:, self.dependent]
         U, sigma, Vt = np.linalg.svd(J_d)
-        if sigma[-1] <= RANK_RTOL * max(sigma[0], 1.0):
-            rows = [n for n, a in zip(self.f.constraint_rows, active) if a]
+        if sigma[-1] <= RANK_RTOL * sigma[0]:
             weak_rows = [rows[k] for k in np.flatnonzero(np.abs(U[:, -1]) > 0.1)]
             weak_speeds = [str(self.f.eom.u[self.dependent[k]]) for k in np.flatnonzero(abs(Vt[-1]) > 0.1)]
             raise ModelError(f"reduce: J_d is singular at this state (σ_min / σ_max = "
