@@ -15,11 +15,9 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .errors import ModelError
 from .linalg import cross, dot, matmul
 from .model.constraints import Loop, Rolling
 from .model.loads import Point
-from .subexpressions import samples
 
 
 @dataclass
@@ -64,7 +62,6 @@ def rolling_rows(kin, disk: Rolling) -> Rows:
     n, tangents = G[:, 2], [G[:, 0], G[:, 1]]
     e = sub.add_matrix(matmul(kin.R[body], disk.axis))
     en = sub.add(dot(e, n))
-    _check_axle(kin, disk, en)
     d = e * en - n
     c = sub.add_matrix(d * (disk.radius / sp.sqrt(1 - en ** 2)))
     origin = Point(body, sp.zeros(3, 1))
@@ -74,15 +71,6 @@ def rolling_rows(kin, disk: Rolling) -> Rows:
     a = kin.Jdot_u_P(origin) + cross(kin.Jdot_u_R(body), c) + cross(kin.omega(body), kin.time_derivative(c))
     T = sp.Matrix.vstack(*(x.T for x in (*tangents, n)))
     return Rows(residual, T * v, sub.add_matrix(T * a))
-
-
-def _check_axle(kin, disk: Rolling, en: sp.Expr) -> None:
-    """Refuse a disk whose axle is normal to the ground at q = 0 (no lowest point: the disk lies flat)."""
-    state = {**samples([], kin.system.parameters, 1)[0], **{q: 0.0 for q in kin.q}}
-    value = kin.sub.evaluate([en], state)[0]
-    if abs(abs(complex(value)) - 1) < 1e-9:
-        raise ModelError(f"rolling disk '{disk.name}': its axle is normal to the ground at q = 0 (the disk "
-                         "lies flat: no single contact point); give the axle along the wheel's hub")
 
 
 def constraint_rows(kin) -> Rows:

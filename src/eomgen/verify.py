@@ -89,6 +89,7 @@ def to_pinocchio(system: System):
         model.appendBodyToJoint(jid, inertia, M)
         model.addFrame(pin.Frame(body.name, jid, M, pin.FrameType.BODY))
         where[body] = (jid, M)
+    where[None] = (0, pin.SE3.Identity())  # frames fixed in the world
     for f in system.frames.values():
         jid, M = where[f.body]
         placement = M * pin.SE3(arr(f.placement.rotation), arr(f.placement.translation).ravel())

@@ -352,6 +352,9 @@ class NumericEoM:
         of contacts and no-slip), which drives a drift of r and J u back to zero (critically damped at
         α = β)."""
         active, J, names = self._held(q, params)
+        F = np.zeros(len(active))
+        if not active.any():
+            return self.forward_dynamics(q, u, tau_a, params), F
         bias = self.contact_jacobian_dot_u(q, u, params)
         if baumgarte is not None:
             alpha, beta = baumgarte
@@ -360,7 +363,6 @@ class NumericEoM:
                 bias[self.closure_index] += beta ** 2 * self.closure_residual(q, params)
         u_dot, F_active = contact_dynamics(self.M(q, params), self._h(q, u, tau_a, params), J, bias[active],
                                            names)
-        F = np.zeros(len(active))
         F[active] = F_active
         return u_dot, F
 
@@ -378,8 +380,8 @@ class NumericEoM:
 
     def support_projector(self, q, params=None) -> np.ndarray:
         """N_c = 1 − M⁻¹ J_cᵀ (J_c M⁻¹ J_cᵀ)⁻¹ J_c (J_c N_c = 0, N_c² = N_c)."""
-        _, J, names = self._held(q, params)
-        return support_projector(self.M(q, params), J, names)
+        active, J, names = self._held(q, params)
+        return support_projector(self.M(q, params), J, names) if active.any() else np.eye(self.nv)
 
     def support_consistent_residual(self, q, u, ud, tau_a=None, params=None) -> np.ndarray:
         """N_cᵀ (M u̇ + b + g − Sᵀ τ − τ_loads): zero along any motion the contacts allow."""

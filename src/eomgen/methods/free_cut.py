@@ -25,6 +25,7 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
+from ..constraints import loop_rows
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
 from ..model.loads import Point
@@ -253,6 +254,10 @@ def cut_equations(kin: Kinematics) -> CutEquations:
             F, T = _efforts(kin, b, F, T)
         W[b] = (F, T)
     ext = external_terms(kin, system.loads)
+    loop_loads, loop_unknowns, closing = _loop_cuts(kin, normal)
+    for b, (f, t) in loop_loads.items():
+        f0, t0 = ext.get(b, (sp.zeros(3, 1), sp.zeros(3, 1)))
+        ext[b] = (f0 + f, t0 + t)
     dynamic, kinematic, accelerations, substituted = [], [], [], []
     for b in system.bodies:
         a = sp.Matrix([Generated(f"a_{b.name}_{c}", ("a", b.name, c)) for c in "xyz"])
@@ -279,4 +284,37 @@ def cut_equations(kin: Kinematics) -> CutEquations:
             substituted.append((Theta * alpha_of_ud)[i] + gyro[i] - euler_T[i])
             kinematic.append(alpha[i] - alpha_of_ud[i])
             accelerations.append(alpha[i])
-    return CutEquations(substituted, reaction_unknowns + list(ud), dynamic, kinematic, accelerations, normal)
+    unknowns = reaction_unknowns + loop_unknowns + list(ud)
+    return CutEquations(substituted + closing, unknowns, dynamic + closing, kinematic, accelerations, normal)
+
+
+def _loop_cuts(kin: Kinematics, normal: int | None) -> tuple[dict, list, list]:
+    """Each loop cut open: its force components λ_k along the rows' directions d_k (force rows along world
+    x, y, z; torque rows along x, y, z or t_1, t_2) act on frame_a's body at frame_a's origin, −λ_k on
+    frame_b's; the closing equations are the rows' J u̇ + J̇ u = 0. Returns (per body the force and
+    its moment about the centre of mass, the unknowns, the equations); planar systems keep the in-plane
+    rows."""
+    sub, ud = kin.sub, sp.Matrix(list(kin.system.ud))
+    loads, unknowns, equations = {}, [], []
+    for loop in kin.system.loops:
+        rows = loop_rows(kin, loop)
+        J, Jdot_u = sub.inline(rows.J), sub.inline(rows.Jdot_u)
+        R_a = kin.frame_placement(loop.frame_a)[0]
+        axes = [sp.eye(3)[:, k % 3] for k in range(J.rows)] if loop.kind != "revolute" else \
+            [sp.eye(3)[:, k] for k in range(3)] + [sub.inline(matmul(R_a, n)) for n in loop.normals]
+        for k, (d, label) in enumerate(zip(axes, loop.row_names)):
+            torque = k >= 3
+            if normal is not None and (sp.expand(d[normal]) != 0) != torque:
+                continue  # out of the plane of motion
+            lam = Generated(f"F_{label}", ("F", loop.name, label))
+            unknowns.append(lam)
+            equations.append((J[k, :] * ud)[0] + Jdot_u[k])
+            for frame, sign in ((loop.frame_a, 1), (loop.frame_b, -1)):
+                body = kin._frame(frame).body
+                if body is None:
+                    continue
+                F, T = (sp.zeros(3, 1), d * sign * lam) if torque else (d * sign * lam, sp.zeros(3, 1))
+                arm = sub.inline(kin.frame_placement(frame)[1] - kin.com(body))
+                f0, t0 = loads.get(body, (sp.zeros(3, 1), sp.zeros(3, 1)))
+                loads[body] = (f0 + F, t0 + T + arm.cross(F))
+    return loads, unknowns, equations

@@ -98,11 +98,17 @@ def normals(axis: sp.Matrix, what: str) -> tuple[sp.Matrix, sp.Matrix]:
     return n1, axis.cross(n1)
 
 
-def default_ground(gravity: sp.Matrix) -> Placement:
-    """The plane z = 0 with its normal against gravity's z component: +z, or −z when g_z > 0."""
-    if gravity[2].is_positive:
+def default_ground(gravity: sp.Matrix, name: str) -> Placement:
+    """The plane z = 0 with its normal against gravity's z component: +z when g_z ≤ 0, −z when g_z > 0;
+    refused when the sign cannot be decided (a symbol not declared positive or negative)."""
+    g_z = gravity[2]
+    if g_z.is_positive:
         return Placement(rotation=sp.diag(1, -1, -1))
-    return Placement()
+    if g_z.is_nonpositive:
+        return Placement()
+    raise ModelError(f"rolling disk '{name}': the sign of gravity's z component {g_z} is not known, so the "
+                     "side of the ground is not either: declare the symbol positive (sympy.Symbol(..., "
+                     "positive=True)) or give ground=eg.Placement(...)")
 
 
 def loop(name: str, frame_a: str, frame_b: str, kind: str, axis) -> Loop:

@@ -364,14 +364,30 @@ class System:
         if radius.is_zero:
             raise ModelError(f"rolling disk '{name}': radius must be positive")
         axis = unit(vector3(axis, f"rolling disk '{name}': axis"), f"rolling disk '{name}': axis")
-        ground = default_ground(self.gravity) if ground is None else ground
+        ground = default_ground(self.gravity, name) if ground is None else ground
         if not isinstance(ground, Placement):
             raise ModelError(f"rolling disk '{name}': ground must be an eomgen.Placement (its xy plane)")
+        e_n = (self._rotation_at_zero(body) * axis).dot(ground.rotation[:, 2])
+        if e_n.is_number and abs(abs(float(e_n)) - 1) < 1e-9:
+            raise ModelError(f"rolling disk '{name}': its axle is normal to the ground at q = 0 (the disk lies "
+                             "flat: no single contact point); give the axle along the wheel's hub")
         with self._changing():
             self._register(f"rolling disk '{name}'", radius, axis, ground.rotation, ground.translation)
         disk = Rolling(name, body, radius, axis, ground)
         self.rolling.append(disk)
         return disk
+
+    @staticmethod
+    def _rotation_at_zero(body: Body) -> sp.Matrix:
+        """The body's rotation in the world at q = 0 (placements and joint rotations from the root)."""
+        chain = []
+        while body is not None:
+            chain.append(body)
+            body = body.parent
+        R = sp.eye(3)
+        for b in reversed(chain):
+            R = R * b.placement.rotation * b.joint.motion()[0].xreplace({x: 0 for x in b.joint.coordinates})
+        return R
 
     def constraint_rows(self) -> list[str]:
         """Names of the rows of J_c: the contacts', the loops', the rolling disks' (in that order)."""

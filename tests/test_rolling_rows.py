@@ -1,0 +1,79 @@
+"""A rolling disk's rows against the disk's closed forms (centre at height z, lean φ, yaw ψ, spin θ):
+the lowest point is at z − R cos φ, the contact point at the centre + R (−sin φ sin ψ, sin φ cos ψ, −cos φ)
+in the chain x, y, z, ψ (about z), φ (about the turned x), θ (about the leaned y): the material point at the
+contact moves with v_centre + ω × c; J̇u = d/dt (J u) by differences."""
+import numpy as np
+import pytest
+import sympy as sp
+
+import eomgen as eg
+from eomgen.errors import ModelError
+
+R = 0.3
+
+
+def disk(gravity=(0, 0, -9.81), axis=(0, 1, 0), ground=None):
+    system = eg.System(gravity=gravity)
+    system.add_body("x", joint=eg.Prismatic("x", axis=(1, 0, 0)))
+    system.add_body("y", parent="x", joint=eg.Prismatic("y", axis=(0, 1, 0)))
+    system.add_body("z", parent="y", joint=eg.Prismatic("z", axis=(0, 0, 1)))
+    system.add_body("yaw", parent="z", joint=eg.Revolute("psi", axis=(0, 0, 1)))
+    system.add_body("lean", parent="yaw", joint=eg.Revolute("phi", axis=(1, 0, 0)))
+    system.add_body("wheel", parent="lean", joint=eg.Revolute("theta", axis=(0, 1, 0)), mass=2,
+                    inertia=np.diag([2 * R**2 / 4, 2 * R**2 / 2, 2 * R**2 / 4]))
+    system.add_rolling("wheel", radius=R, axis=axis, ground=ground)
+    return system
+
+
+def closed_forms(q, u):
+    x, y, z, psi, phi, theta = q
+    c = R * np.array([-np.sin(phi) * np.sin(psi), np.sin(phi) * np.cos(psi), -np.cos(phi)])
+    # ω = ψ̇ e_z + φ̇ e_x' + θ̇ e_y'' (e_x' = Rz e_x, e_y'' = Rz Rx e_y)
+    e_x = np.array([np.cos(psi), np.sin(psi), 0])
+    e_y = np.array([-np.sin(psi) * np.cos(phi), np.cos(psi) * np.cos(phi), np.sin(phi)])
+    omega = u[3] * np.array([0, 0, 1]) + u[4] * e_x + u[5] * e_y
+    return z + c[2], u[:3] + np.cross(omega, c)
+
+
+def test_height_and_contact_velocity_equal_the_closed_forms():
+    f = eg.codegen(eg.derive(disk(), method="recursive"))
+    rng = np.random.default_rng(0)
+    for _ in range(5):
+        q, u = rng.uniform(-1.2, 1.2, 6), rng.uniform(-2, 2, 6)
+        height, v = closed_forms(q, u)
+        assert f.closure_rows == ["wheel_rolling.height"]
+        assert f.constraint_rows == ["wheel_rolling.t1", "wheel_rolling.t2", "wheel_rolling.n"]
+        assert np.isclose(f.closure_residual(q)[0], height, atol=1e-14)
+        assert np.allclose(f.contact_jacobian(q) @ u, v, atol=1e-13)
+        h = 1e-5
+        rate = (f.contact_jacobian(q + h * u) - f.contact_jacobian(q - h * u)) / (2 * h)
+        assert np.allclose(f.contact_jacobian_dot_u(q, u), rate @ u, atol=1e-7)
+
+
+def test_ground_below_a_downward_gravity_and_a_placed_ground():
+    """gravity along +z (z down): the default ground's normal is −z, its rows t1 = x, t2 = −y, n = −z."""
+    f = eg.codegen(eg.derive(disk(gravity=(0, 0, 9.81)), method="recursive"))
+    q, u = np.array([0.1, 0.2, -0.25, 0.3, 0.2, 0.4]), np.array([0.3, -0.1, 0.2, 0.5, -0.4, 1.0])
+    height, v = closed_forms(q, u)  # the lowest point now at z + R cos φ along −z: the disk hangs "up"
+    assert np.isclose(f.closure_residual(q)[0], -(q[2] + R * np.cos(q[4])), atol=1e-14)
+    ground = eg.Placement(translation=(0, 0, 0.5))  # the plane z = 0.5, normal +z
+    g = eg.codegen(eg.derive(disk(ground=ground), method="recursive"))
+    assert np.isclose(g.closure_residual(q)[0], height - 0.5, atol=1e-14)
+    assert np.allclose(g.contact_jacobian(q) @ u, v, atol=1e-13)
+
+
+def test_bad_rolling_disks_are_refused():
+    with pytest.raises(ModelError, match="axle is normal to the ground"):
+        disk(axis=(0, 0, 1))
+    system = disk()
+    with pytest.raises(ModelError, match="radius must be positive"):
+        system.add_rolling("wheel", radius=0, name="other")
+    with pytest.raises(ModelError, match="exists already"):
+        system.add_rolling("wheel", radius=R)
+    with pytest.raises(ModelError, match="unknown body"):
+        system.add_rolling("tyre", radius=R)
+    with pytest.raises(ModelError, match="sign of gravity's z component g is not known"):
+        disk(gravity=(0, 0, sp.Symbol("g", real=True)))
+    assert disk(gravity=(0, 0, -sp.Symbol("g", positive=True))).rolling[0].ground.rotation == sp.eye(3)
+    with pytest.raises(ModelError, match="axis must not be zero"):
+        system.add_rolling("wheel", radius=R, axis=(0, 0, 0), name="third")
