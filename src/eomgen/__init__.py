@@ -10,7 +10,8 @@ from .kinematics import Kinematics
 from .methods import derive
 from .methods.kane import KaneEquations, kane
 from .model import (Cylindrical, DHLink, Fixed, FlexibleLink, FreeFlyer, Helical, Placement, Planar, Prismatic,
-                    Revolute, Spherical, System, Translation, Universal, from_dh, from_urdf, robots)
+                    Revolute, Spherical, System, Translation, Universal, from_dh, from_mjcf, from_urdf,
+                    robots)
 from .progress import quiet
 from .reduction import reduce
 from .simplification import simplified
@@ -22,7 +23,7 @@ from .verify import verify
 
 __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed", "FlexibleLink", "FreeFlyer", "Helical",
            "Kinematics", "ModelError", "Placement", "Planar", "Prismatic", "Revolute", "Solution", "Spherical", "Step",
-           "System", "Translation", "Universal", "assemble", "codegen", "derive", "from_dh",
+           "System", "Translation", "Universal", "assemble", "codegen", "derive", "from_dh", "from_mjcf",
            "from_urdf", "integrate", "kane", "project", "quiet", "random_states", "reduce", "robots",
            "simplified", "simulate", "solution",
            "tradeoff", "verify", "write_c", "write_module"]

@@ -9,7 +9,9 @@ from .loads import Actuator, Damper, Force, Point, Spring, Torque
 from .system import Body, Frame, System
 from . import robots
 from .urdf import from_pinocchio, from_urdf, pinocchio_configuration
+from .mjcf import from_mjcf
 
 __all__ = ["Actuator", "Body", "Cylindrical", "DHLink", "Damper", "Fixed", "FlexibleLink", "Force", "FreeFlyer", "Frame",
            "Helical", "Joint", "Placement", "Planar", "Point", "Prismatic", "Revolute", "Spherical", "Spring",
-           "System", "Torque", "Translation", "Universal", "from_dh", "from_pinocchio", "from_urdf", "pinocchio_configuration"]
+           "System", "Torque", "Translation", "Universal", "from_dh", "from_mjcf", "from_pinocchio", "from_urdf",
+           "pinocchio_configuration"]

@@ -36,6 +36,11 @@ def _matrix(a) -> list:
     return [[number(x) for x in row] for row in np.atleast_2d(np.asarray(a, float))]
 
 
+def placement(M) -> Placement:
+    """A Pinocchio SE3 as an eomgen Placement with numbers as in `number`."""
+    return Placement(rotation=_matrix(M.rotation), translation=_vector(M.translation))
+
+
 def _axis(jmodel, angular: bool) -> tuple:
     """A one-dof joint's axis, read off its motion subspace S = [linear; angular] at q = 0 (the
     unbounded unaligned revolute does not expose its axis)."""
@@ -183,17 +188,14 @@ def from_pinocchio(model, gravity=None, strict: bool = True, base: str = "quater
         bodies[i] = system.add_body(body_name, parent=bodies[model.parents[i]], joint=joint,
                                     mass=number(inertia.mass), com=[number(x) for x in inertia.lever],
                                     inertia=_matrix(inertia.inertia),
-                                    placement=Placement(rotation=_matrix(M.rotation),
-                                                        translation=[number(x) for x in M.translation]))
+                                    placement=placement(M))
         continuous += [is_continuous] if joint.dof else []  # a mimic has no coordinate
     taken = {b.name for b in system.bodies}
     for f in frames:
         if f.name in taken or f.name == "universe" or bodies[f.parentJoint] is None:
             continue
         taken.add(f.name)
-        system.add_frame(f.name, bodies[f.parentJoint],
-                         Placement(rotation=_matrix(f.placement.rotation),
-                                   translation=[number(x) for x in f.placement.translation]))
+        system.add_frame(f.name, bodies[f.parentJoint], placement(f.placement))
     system.pinocchio_model = model if base == "quaternion" else None
     system.continuous = continuous
     return system
