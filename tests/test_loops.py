@@ -106,34 +106,39 @@ def test_assemble_equals_closed_form(theta, offset):
     assert np.linalg.norm(f.closure_residual(q)) <= 1e-12
 
 
-@pytest.mark.parametrize("kind", ["revolute", "point"])
-@settings(max_examples=20, deadline=None)
-@given(theta=st.floats(-np.pi, np.pi), rate=st.floats(-3, 3), torque=st.floats(-5, 5))
-def test_loop_force_equals_newton_euler(kind, theta, rate, torque):
-    """The loop force F on the coupler at its end (−F on the rocker) from the free-body diagrams: the
-    rocker about its ground pivot D, I_D α3 = (G3 − D) × m3 g + (C − D) × (−F); the coupler about its
-    joint B, I_G α2 + (G2 − B) × m2 a_G2 = (C − B) × F + (G2 − B) × m2 g; θ̈ from the crank's equation and
-    the links' accelerations by differentiating the closure (α = k θ̈ + k' θ̇², a = G' θ̈ + G'' θ̇²)."""
-    _, f, _ = numeric(kind)
-    h, q = hand(), closed_form(theta)
-    angles = _angles(q)
+def newton_euler(theta: float, rate: float, torque: float) -> tuple[float, np.ndarray, np.ndarray]:
+    """(θ̈, F, u) at the closed-form state: θ̈ from the crank's equation, the links' accelerations by
+    differentiating the closure (α = k θ̈ + k' θ̇², a = G' θ̈ + G'' θ̇²), and the loop force F on the coupler
+    at its end (−F on the rocker) from the free-body diagrams: the rocker about its ground pivot D,
+    I_D α3 = (G3 − D) × m3 g + (C − D) × (−F); the coupler about its joint B,
+    I_G α2 + (G2 − B) × m2 a_G2 = (C − B) × F + (G2 − B) × m2 g."""
+    h = hand()
+    angles = _angles(closed_form(theta))
     J, dJ, dV = (h[k](*angles) for k in ("J", "dJ", "dV"))
     acc = (torque - 0.5 * dJ * rate**2 - dV) / J
     k2, k3, dk2, dk3 = (h[k](*angles) for k in ("k2", "k3", "dk2", "dk3"))
     alpha2, alpha3 = k2 * acc + dk2 * rate**2, k3 * acc + dk3 * rate**2
-    a_G2 = (np.ravel(h["dG2"](*angles)) * acc + np.ravel(h["ddG2"](*angles)) * rate**2)
+    a_G2 = np.ravel(h["dG2"](*angles)) * acc + np.ravel(h["ddG2"](*angles)) * rate**2
     joint_b, joint_c, G2, G3 = (np.ravel(h[k](*angles)) for k in ("B", "C", "G2", "G3"))
     ground = np.array([D, 0.0])
     I2, I3 = h["I"](*angles)[1:]
     m2, m3 = MASSES[1:]
     weight2, weight3 = np.array([0, -m2 * GRAVITY]), np.array([0, -m3 * GRAVITY])
-    # rows: [−r_y, r_x]·F = r × F
-    rc_d, rc_b = joint_c - ground, joint_c - joint_b
+    rc_d, rc_b = joint_c - ground, joint_c - joint_b  # rows [−r_y, r_x]·F = r × F
     lhs = np.array([[rc_d[1], -rc_d[0]], [-rc_b[1], rc_b[0]]])
     rhs = np.array([(I3 + m3 * (C / 2) ** 2) * alpha3 - _cross(G3 - ground, weight3),
                     I2 * alpha2 + _cross(G2 - joint_b, m2 * a_G2) - _cross(G2 - joint_b, weight2)])
-    F = np.linalg.solve(lhs, rhs)
-    u = np.array([rate, (k2 - 1) * rate, k3 * rate])
+    return acc, np.linalg.solve(lhs, rhs), np.array([rate, (k2 - 1) * rate, k3 * rate])
+
+
+@pytest.mark.parametrize("kind", ["revolute", "point"])
+@settings(max_examples=20, deadline=None)
+@given(theta=st.floats(-np.pi, np.pi), rate=st.floats(-3, 3), torque=st.floats(-5, 5))
+def test_loop_force_equals_newton_euler(kind, theta, rate, torque):
+    """The loop force and the crank's acceleration equal the free-body diagrams' (`newton_euler`)."""
+    _, f, _ = numeric(kind)
+    acc, F, u = newton_euler(theta, rate, torque)
+    q = closed_form(theta)
     ud, _ = f.constrained_dynamics(q, u, [torque])
     got = f.constraint_forces(q, u, [torque])["loop"]
     np.testing.assert_allclose(ud[0], acc, rtol=1e-9, atol=1e-9)
