@@ -2,6 +2,7 @@
 derived by several methods and turned into verified numeric code."""
 __version__ = "0.1.0"
 
+from .assembly import assemble, project
 from .codegen import codegen, write_c, write_module
 from .eom import EquationsOfMotion
 from .errors import ModelError
@@ -12,14 +13,17 @@ from .model import (Cylindrical, DHLink, Fixed, FlexibleLink, FreeFlyer, Helical
                     Revolute, Spherical, System, Translation, Universal, from_dh, from_mjcf, from_urdf,
                     robots)
 from .progress import quiet
+from .reduction import reduce
 from .simplification import simplified
 from .worked import Solution, Step, solution
 from .state import integrate, random_states
+from .simulate import simulate
 from .tradeoff import tradeoff
 from .verify import verify
 
 __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed", "FlexibleLink", "FreeFlyer", "Helical",
            "Kinematics", "ModelError", "Placement", "Planar", "Prismatic", "Revolute", "Solution", "Spherical", "Step",
-           "System", "Translation", "Universal", "codegen", "derive", "from_dh", "from_mjcf",
-           "from_urdf", "integrate", "kane", "quiet", "random_states", "robots", "simplified", "solution",
+           "System", "Translation", "Universal", "assemble", "codegen", "derive", "from_dh", "from_mjcf",
+           "from_urdf", "integrate", "kane", "project", "quiet", "random_states", "reduce", "robots",
+           "simplified", "simulate", "solution",
            "tradeoff", "verify", "write_c", "write_module"]

@@ -12,6 +12,7 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..methods.kane import KaneEquations
+from ..state import random_states
 from .contacts import contact_dynamics, support_projector
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
@@ -275,9 +276,12 @@ class NumericEoM:
              m.inductance] for m in motors]))
         circuit = self.call("motor", q, u, params=params)  # per motor: U − k N q̇, R, L
         di = (circuit[:, 0] - circuit[:, 1] * i) / circuit[:, 2]
+        return np.concatenate([self.qdot(q, u, params), self.forward_dynamics(q, u, params=params), di])
+
+    def qdot(self, q, u, params=None) -> np.ndarray:
+        """q̇(q, u) (`System.qdot`: u itself but for quaternions, whose rates depend on q)."""
         self._function("qdot", lambda: self.eom.system.qdot)
-        qdot = self.call("qdot", q, u, params=params).ravel()
-        return np.concatenate([qdot, self.forward_dynamics(q, u, params=params), di])
+        return self.call("qdot", q, u, params=params)[..., 0]
 
     # --- contacts, loops, rolling disks (one state at a time) ------------------------------------
     def contact_jacobian(self, q, params=None) -> np.ndarray:
@@ -309,6 +313,14 @@ class NumericEoM:
         """Names of the rows of `closure_residual`."""
         return self.eom.system.closure_rows()
 
+    @property
+    def closure_index(self) -> list[int]:
+        """For each row of `closure_residual`, its row of J_c (d r / dt = J_c u there): a loop's rows are
+        its own, a rolling disk's height goes with its normal row n."""
+        system, rows = self.eom.system, self.constraint_rows
+        return [rows.index(r) for r in [*(r for x in system.loops for r in x.row_names),
+                                         *(x.row_names[2] for x in system.rolling)]]
+
     def _contacts(self):
         if not self.constraint_rows:
             raise ModelError("the system has no contacts, loops or rolling disks: add them with "
@@ -317,26 +329,40 @@ class NumericEoM:
 
     def _active(self, params) -> np.ndarray:
         """The rows of J_c that some motion can violate: rows of J_c and J̇_c u that vanish at three random
-        states (the z row of a loop in a plane mechanism) carry no force and stay out of the solve."""
+        states (`random_states`: unit quaternions; the z row of a loop in a plane mechanism) carry no force
+        and stay out of the solve."""
         if self._active_rows is None:
-            rng = np.random.default_rng(0)
-            q, u = rng.uniform(-np.pi, np.pi, (2, 3, max(self.nq, self.nv)))
-            q, u = q[:, :self.nq], u[:, :self.nv]
+            q, u, _ = random_states(self.eom.system, 3, np.random.default_rng(0))
             rows = [np.abs(self.contact_jacobian(q[k], params)).max(axis=1)
                     + np.abs(self.contact_jacobian_dot_u(q[k], u[k], params)) for k in range(3)]
             self._active_rows = np.max(rows, axis=0) > 0
         return self._active_rows
 
-    def constrained_dynamics(self, q, u, tau_a=None, params=None) -> tuple[np.ndarray, np.ndarray]:
-        """(u̇, F_c) with every contact, loop and rolling disk held: F_c = −(J M⁻¹ Jᵀ)⁻¹ (J M⁻¹ h + J̇ u),
-        the constraint forces on the system, stacked like J_c's rows (0 on rows no motion can violate)."""
+    def _held(self, q, params) -> tuple[np.ndarray, np.ndarray, list[str]]:
+        """(mask, J, names) of the rows of J_c some motion can violate (`_active`)."""
         names, active = self._contacts(), self._active(params)
-        F = np.zeros(len(names))
+        return active, self.contact_jacobian(q, params)[active], [n for n, a in zip(names, active) if a]
+
+    def constrained_dynamics(self, q, u, tau_a=None, params=None,
+                             baumgarte: tuple[float, float] | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(u̇, F_c) with every contact, loop and rolling disk held: F_c = −(J M⁻¹ Jᵀ)⁻¹ (J M⁻¹ h + c),
+        the constraint forces on the system, stacked like J_c's rows (0 on rows no motion can violate).
+        c = J̇ u holds J u̇ + J̇ u = 0; with baumgarte = (α, β), c = J̇ u + 2 α J u + β² r holds
+        J u̇ + J̇ u = −2 α J u − β² r (r: the closure residual on its rows, `closure_index`; 0 on the rows
+        of contacts and no-slip), which drives a drift of r and J u back to zero (critically damped at
+        α = β)."""
+        active, J, names = self._held(q, params)
+        F = np.zeros(len(active))
         if not active.any():
             return self.forward_dynamics(q, u, tau_a, params), F
-        u_dot, F_active = contact_dynamics(
-            self.M(q, params), self._h(q, u, tau_a, params), self.contact_jacobian(q, params)[active],
-            self.contact_jacobian_dot_u(q, u, params)[active], [n for n, a in zip(names, active) if a])
+        bias = self.contact_jacobian_dot_u(q, u, params)
+        if baumgarte is not None:
+            alpha, beta = baumgarte
+            bias = bias + 2 * alpha * (self.contact_jacobian(q, params) @ np.asarray(u, float))
+            if self.closure_rows:
+                bias[self.closure_index] += beta ** 2 * self.closure_residual(q, params)
+        u_dot, F_active = contact_dynamics(self.M(q, params), self._h(q, u, tau_a, params), J, bias[active],
+                                           names)
         F[active] = F_active
         return u_dot, F
 
@@ -354,7 +380,8 @@ class NumericEoM:
 
     def support_projector(self, q, params=None) -> np.ndarray:
         """N_c = 1 − M⁻¹ J_cᵀ (J_c M⁻¹ J_cᵀ)⁻¹ J_c (J_c N_c = 0, N_c² = N_c)."""
-        return support_projector(self.M(q, params), self.contact_jacobian(q, params), self._contacts())
+        active, J, names = self._held(q, params)
+        return support_projector(self.M(q, params), J, names) if active.any() else np.eye(self.nv)
 
     def support_consistent_residual(self, q, u, ud, tau_a=None, params=None) -> np.ndarray:
         """N_cᵀ (M u̇ + b + g − Sᵀ τ − τ_loads): zero along any motion the contacts allow."""
