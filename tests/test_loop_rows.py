@@ -5,6 +5,7 @@ wrench); the free cut with the loop cut open = the constrained dynamics."""
 
 import numpy as np
 import pinocchio as pin
+import pytest
 import sympy as sp
 from hypothesis import assume, given, settings, strategies as st
 
@@ -71,6 +72,13 @@ def placements(system, q):
     return model, data
 
 
+def moving(tree, i: int) -> int:
+    """The body itself or its first ancestor through fixed joints that moves (−1: the world)."""
+    while i >= 0 and tree.bodies[i].kind == "fixed":
+        i = tree.bodies[i].parent
+    return i
+
+
 @st.composite
 def loops(draw, rate_axes: bool = False):
     tree = draw(
@@ -79,7 +87,9 @@ def loops(draw, rate_axes: bool = False):
         )
     )
     a = draw(st.sampled_from(range(len(tree.bodies))))
-    b = draw(st.sampled_from([-1] + [i for i in range(len(tree.bodies)) if i != a]))
+    others = [i for i in range(-1, len(tree.bodies)) if moving(tree, i) != moving(tree, a)]
+    assume(others)
+    b = draw(st.sampled_from(others))
     return tree, a, b, draw(st.sampled_from(sorted(KINDS))), draw(st.integers(0, 2**31))
 
 
@@ -100,10 +110,13 @@ def test_loops_equal_pinocchio_constraint_dynamics(case):
     tau_a = rng.uniform(-1, 1, f.S.shape[0])
     J = f.contact_jacobian(q)
     u = u - np.linalg.pinv(J) @ (J @ u)  # speeds the loop allows (else J u̇ = −J̇ u may have no solution)
+    redundant = np.linalg.matrix_rank(J, tol=1e-9) < J.shape[0]
     pin.initConstraintDynamics(model, data, models, datas)
-    prox = pin.ProximalSettings(1e-14, 1e-6, 1000)  # redundant rows need the proximal regularization
+    settings = (
+        [pin.ProximalSettings(1e-14, 1e-6, 1000)] if redundant else []
+    )  # a redundant set: regularized
     ddq = pin.constraintDynamics(
-        model, data, pinocchio_configuration(system, q), u, f.S.T @ tau_a, models, datas, prox
+        model, data, pinocchio_configuration(system, q), u, f.S.T @ tau_a, models, datas, *settings
     )
     J_pin = pin.getConstraintJacobian(model, data, constraint, datas[0]).reshape(J.shape)
     assert np.allclose(J, J_pin, atol=1e-10), np.abs(J - J_pin).max()
@@ -122,18 +135,14 @@ def test_loops_equal_pinocchio_constraint_dynamics(case):
     M = f.M(q)
     assume(np.linalg.eigvalsh(M).min() > 1e-6 * np.abs(M).max())  # massless leaves: M (near) singular
     sigma = np.linalg.svd(J, compute_uv=False) / np.abs(J).max()
-    assume(
-        not np.any((sigma > 1e-12) & (sigma < 1e-6))
-    )  # near-singular sets: their warnings, test_contacts
+    assume(not np.any((sigma > 1e-12) & (sigma < 1e-6)))  # near-singular sets: test_contacts
     ud, F = f.constrained_dynamics(q, u, tau_a)
-    redundant = np.linalg.matrix_rank(J, tol=1e-9) < J.shape[0]
     scale = 1e-8 * (1 + np.abs(F).max() + np.abs(ud).max())
     if not redundant:
         assert np.allclose(ud, ddq, atol=scale), np.abs(ud - ddq).max()
         assert np.allclose(F, data.lambda_c, atol=scale), np.abs(F - data.lambda_c).max()
-        return
-    # redundant rows (Pinocchio's proximal solve then stops near 1e-6): the forces are not unique; eomgen's
-    # are the minimum-norm ones (in the range of J), and (u̇, F) satisfy Pinocchio's equations
+    # in any case (a redundant set's forces are not unique, and Pinocchio's proximal solve of it stops
+    # near 1e-6): (u̇, F) satisfy Pinocchio's equations, F in the range of J (eomgen's minimum-norm forces)
     qp = pinocchio_configuration(system, q)
     pin.forwardKinematics(model, data, qp, u, 0 * u)
     pin.updateFramePlacements(model, data)
@@ -144,11 +153,17 @@ def test_loops_equal_pinocchio_constraint_dynamics(case):
         for x in (A, B)
     ]
     Jdot_u = np.concatenate([a[0].linear - a[1].linear, a[0].angular - a[1].angular])[: J.shape[0]]
-    M_pin, nle = pin.crba(model, data, qp), pin.nonLinearEffects(model, data, qp, u)
-    assert np.allclose(M_pin @ ud + nle - f.S.T @ tau_a - J_pin.T @ F, 0, atol=scale)
-    assert np.allclose(J_pin @ ud + Jdot_u, 0, atol=scale)
+    tau = pin.rnea(
+        model, data, qp, u, ud
+    )  # inverse dynamics (crba can differ from it: a helical pitch 1e-45)
+    scale = 1e-8 * (1 + np.abs(tau).max() + np.abs(J.T @ F).max())
+    assert np.allclose(tau - f.S.T @ tau_a - J_pin.T @ F, 0, atol=scale)
+    conditioning = (
+        np.abs(J).max() * (np.abs(tau).max() + np.abs(J.T @ F).max()) / np.linalg.eigvalsh(M).min()
+    )
+    assert np.allclose(J_pin @ ud + Jdot_u, 0, atol=1e-8 * (1 + conditioning))
     null = np.linalg.svd(J.T)[2][np.linalg.matrix_rank(J, tol=1e-9) :]
-    assert np.allclose(null @ F, 0, atol=scale)
+    assert np.allclose(null @ F, 0, atol=1e-8 * (1 + np.abs(F).max()))
 
 
 @settings(max_examples=10, phases=[__import__("hypothesis").Phase.generate], **COMMON)
@@ -284,3 +299,24 @@ def test_free_cut_with_the_loop_cut_open_equals_the_constrained_dynamics():
     assert np.allclose([solved[s] for s in system.ud], ud, atol=1e-10)
     loop_forces = [s for s in cut.unknowns if s.name.startswith("F_tip-end")]
     assert np.allclose([solved[s] for s in loop_forces], F, atol=1e-10)
+
+
+def test_a_loop_within_one_rigid_body_is_refused():
+    system = eg.System()
+    system.add_body("arm", joint=eg.Revolute("q", axis=(0, 0, 1)), mass=1, inertia=np.eye(3))
+    system.add_body(
+        "flange", parent="arm", mass=1, inertia=np.eye(3), placement=eg.Placement(translation=(1, 0, 0))
+    )
+    system.add_body("bracket", mass=1, inertia=np.eye(3))
+    system.add_frame("tip", "flange")
+    system.add_frame("ground", None)
+    with pytest.raises(eg.ModelError, match="both fixed on body 'arm'"):
+        system.add_loop("tip", "arm")
+    with pytest.raises(eg.ModelError, match="both fixed on the world"):
+        system.add_loop("bracket", "ground")
+    with pytest.raises(eg.ModelError, match="and itself"):
+        system.add_loop("tip", "tip")
+    with pytest.raises(eg.ModelError, match="unknown frame"):
+        system.add_loop("tip", "nowhere")
+    with pytest.raises(eg.ModelError, match="kind must be one of"):
+        system.add_loop("tip", "ground", kind="prismatic")

@@ -1,11 +1,14 @@
 """The rows J_c u = 0 of contacts, loop closures and rolling disks, with J̇_c u and position residuals.
 
-Loop between frames a and b (world axes, J = J_a − J_b in the constrained directions):
+Loop between frames a and b (world axes, J = J_a − J_b in the constrained directions)::
+
     point:    r = p_a − p_b,                          J = J_P,a − J_P,b
     frame:    + r_R = ½ vee(R_a R_bᵀ − R_b R_aᵀ),      J = J_R,a − J_R,b   (ṙ_R = ω_a − ω_b at closure)
     revolute: + r_i = t_iᵀ (n_b × n_a), i = 1, 2,     J = t_iᵀ (J_R,a − J_R,b),
               n = R axis, t_i = R_a n_i (⟂ axis);    J̇u = t_iᵀ (α_a − α_b) + (ω_a × t_i)ᵀ (ω_a − ω_b)
-Rolling disk (centre p, axle e = R axis, ground normal n and tangents t1, t2, height h = n · p_ground):
+
+Rolling disk (centre p, axle e = R axis, ground normal n and tangents t1, t2, height h = n · p_ground)::
+
     c = ρ d / |d|, d = (e · n) e − n (toward the ground in the disk's plane), r = n · (p + c) − h,
     v = v_p + ω × c (the disk's material point at the contact), J = [t1; t2; n] (J_P + J_R × c),
     J̇u = [t1; t2; n] (a_p + α × c + ω × ċ), ċ = ∂c/∂q q̇."""

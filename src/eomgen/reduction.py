@@ -54,7 +54,7 @@ class Reduced:
 
     def _rows(self, params) -> np.ndarray:
         """The rows of J_c some motion can violate, one per dependent speed (refused otherwise)."""
-        active = self.f._active(params)
+        active = self.f._row_sizes(params) > 0
         if active.sum() != len(self.dependent):
             rows = [n for n, a in zip(self.f.constraint_rows, active) if a]
             raise ModelError(f"reduce: {len(rows)} constraint rows ({rows}) but {len(self.dependent)} "
@@ -67,6 +67,9 @@ class Reduced:
         self._rows(params)
         _, J, rows = self.f._held(q, params)
         J_d = J[:, self.dependent]
+        if J_d.shape[0] < J_d.shape[1]:
+            raise ModelError(f"reduce: J_d is singular at this state: only rows {rows} can be violated here; "
+                             "choose other independent speeds or another state")
         U, sigma, Vt = np.linalg.svd(J_d)
         if sigma[-1] <= RANK_RTOL * sigma[0]:
             weak_rows = [rows[k] for k in np.flatnonzero(np.abs(U[:, -1]) > 0.1)]

@@ -93,7 +93,7 @@ class NumericEoM:
         self.functions: dict[str, Generated] = {}
         self._python: dict[str, Callable] = {}  # Python versions for mpmath references
         self._built: dict[str, tuple[Callable, bool]] = {}  # how each function was built
-        self._active_rows: np.ndarray | None = None  # rows of J_c some motion can violate
+        self._row_size: np.ndarray | None = None  # size of each row of J_c (`_row_sizes`)
         for name in eager(eom):  # T, U, tau and other frames are written when first asked for
             self._function(name, lambda name=name: eom.compact[name], symmetric=name == "M")
 
@@ -327,21 +327,29 @@ class NumericEoM:
                              "System.add_contact, add_loop or add_rolling")
         return self.constraint_rows
 
-    def _active(self, params) -> np.ndarray:
-        """The rows of J_c that some motion can violate: rows of J_c and J̇_c u that vanish at three random
-        states (`random_states`: unit quaternions; the z row of a loop in a plane mechanism) carry no force
-        and stay out of the solve."""
-        if self._active_rows is None:
+    def _row_sizes(self, params) -> np.ndarray:
+        """The size of each row of J_c (with J̇_c u) at three random states (`random_states`: unit
+        quaternions); rows of size 0 (the z row of a loop in a plane mechanism; round-off below 1e-12 of the
+        largest row or of 1) no motion can violate."""
+        if self._row_size is None:
             q, u, _ = random_states(self.eom.system, 3, np.random.default_rng(0))
             rows = [np.abs(self.contact_jacobian(q[k], params)).max(axis=1)
                     + np.abs(self.contact_jacobian_dot_u(q[k], u[k], params)) for k in range(3)]
-            self._active_rows = np.max(rows, axis=0) > 0
-        return self._active_rows
+            size = np.max(rows, axis=0)
+            self._row_size = np.where(size > 1e-12 * max(1.0, size.max()), size, 0.0)  # round-off: 0
+        return self._row_size
 
     def _held(self, q, params) -> tuple[np.ndarray, np.ndarray, list[str]]:
-        """(mask, J, names) of the rows of J_c some motion can violate (`_active`)."""
-        names, active = self._contacts(), self._active(params)
-        return active, self.contact_jacobian(q, params)[active], [n for n, a in zip(names, active) if a]
+        """(mask, J, names) of the rows of J_c some motion can violate at q: they carry the forces; the
+        others carry none. A row that vanishes only at q (below 1e-12 of its size, a singular configuration
+        of the constraint) is warned of."""
+        names, size, J = self._contacts(), self._row_sizes(params), self.contact_jacobian(q, params)
+        held = (size > 0) & (np.abs(J).max(axis=1) > 1e-12 * size)
+        lost = [n for n, s, h in zip(names, size, held) if s > 0 and not h]
+        if lost:
+            warnings.warn(f"constraint rows {lost} cannot be violated by any motion at this state (a singular "
+                          "configuration): no force along them", stacklevel=3)
+        return held, J[held], [n for n, h in zip(names, held) if h]
 
     def constrained_dynamics(self, q, u, tau_a=None, params=None,
                              baumgarte: tuple[float, float] | None = None) -> tuple[np.ndarray, np.ndarray]:

@@ -338,10 +338,12 @@ class System:
         if frame_a == frame_b:
             raise ModelError(f"loop '{name}': a loop between frame '{frame_a}' and itself constrains "
                              "nothing")
-        if bodies[0] is bodies[1]:
-            where = "the world" if bodies[0] is None else f"body '{bodies[0].name}'"
-            raise ModelError(f"loop '{name}': frames '{frame_a}' and '{frame_b}' are both fixed on {where}; "
-                             "a loop joins two different bodies")
+        rigid = [self._moving_ancestor(b) for b in bodies]
+        if rigid[0] is rigid[1]:
+            where = "the world" if rigid[0] is None else f"body '{rigid[0].name}'"
+            raise ModelError(f"loop '{name}': frames '{frame_a}' and '{frame_b}' are both fixed on {where} "
+                             "(directly or through fixed joints); a loop joins two bodies that can move "
+                             "relative to each other")
         closure = loop(name, frame_a, frame_b, kind, axis)
         with self._changing():
             self._register(f"loop '{name}': axis", closure.axis)
@@ -376,6 +378,13 @@ class System:
         disk = Rolling(name, body, radius, axis, ground)
         self.rolling.append(disk)
         return disk
+
+    @staticmethod
+    def _moving_ancestor(body: Body | None) -> Body | None:
+        """The body itself, or the first ancestor through fixed joints whose joint moves (None: the world)."""
+        while body is not None and not body.speed_indices:
+            body = body.parent
+        return body
 
     @staticmethod
     def _rotation_at_zero(body: Body) -> sp.Matrix:
