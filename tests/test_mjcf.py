@@ -134,7 +134,7 @@ def residual(model, data, c, q) -> np.ndarray:
 def compare(f, system, model, data, constraints, datas, q, u, tau):
     """u̇, F, J_c against constraintDynamics (1e-8) and getConstraintJacobian (1e-12); the residual
     against Pinocchio's frames: p_1 − p_2, and for a weld
-    ½ vee(R_1 R_2ᵀ − R_2 R_1ᵀ) = −R_1 sin|ω| ω/|ω| with ω = log(R_1ᵀ R_2)."""
+    2 vee(E − Eᵀ) / (1 + tr E) = −R_1 2 tan(|ω|/2) ω/|ω| with E = R_1 R_2ᵀ, ω = log(R_1ᵀ R_2)."""
     u_dot, F = f.constrained_dynamics(q, u, tau)
     a = pin.constraintDynamics(model, data, q, u, tau, constraints, datas)
     W = to_world(model, data, constraints, q)
@@ -150,7 +150,8 @@ def compare(f, system, model, data, constraints, datas, q, u, tau):
         if n == 6:
             w = pin.log3(A.rotation.T @ B.rotation)
             angle = np.linalg.norm(w)
-            close(rows[k + 3:k + 6], -A.rotation @ (np.sin(angle) / angle * w if angle else w), 1e-12)
+            turn = 2 * np.tan(angle / 2) / angle * w if angle else w
+            close(rows[k + 3:k + 6], -A.rotation @ turn, 1e-12)
         k += n
     assert f.constraint_rows[:3] == [f"{system.loops[0].name}.{a}" for a in "xyz"]
 

@@ -72,8 +72,25 @@ def test_bad_rolling_disks_are_refused():
         system.add_rolling("wheel", radius=R)
     with pytest.raises(ModelError, match="unknown body"):
         system.add_rolling("tyre", radius=R)
-    with pytest.raises(ModelError, match="sign of gravity's z component g is not known"):
+    with pytest.raises(ModelError, match=r"direction of gravity \[0, 0, g\] is not known"):
         disk(gravity=(0, 0, sp.Symbol("g", real=True)))
     assert disk(gravity=(0, 0, -sp.Symbol("g", positive=True))).rolling[0].ground.rotation == sp.eye(3)
     with pytest.raises(ModelError, match="axis must not be zero"):
         system.add_rolling("wheel", radius=R, axis=(0, 0, 0), name="third")
+
+
+def test_default_ground_faces_against_any_gravity_and_a_flat_disk_is_refused_at_its_state():
+    """gravity along −y: the ground is the plane y = 0 (normal +y); a disk lying flat at a state has no
+    contact point: refused, not a free fall."""
+    system = eg.System(gravity=(0, -9.81, 0))
+    system.add_body("wheel", joint=eg.FreeFlyer("base", parametrization="euler"), mass=1,
+                    inertia=np.diag([0.25, 0.25, 0.5]))
+    disk = system.add_rolling("wheel", radius=R, axis=(0, 0, 1))
+    n = np.array(disk.ground.rotation, dtype=float)[:, 2]
+    assert np.allclose(n, [0, 1, 0]) and np.isclose(np.linalg.det(np.array(disk.ground.rotation, float)), 1)
+    f = eg.codegen(eg.derive(system, method="recursive"))
+    q = np.array([0.1, R, 0.2, 0.3, 0.0, 0.0])  # axle along world z, touching the ground y = 0
+    assert np.isclose(f.closure_residual(q)[0], 0, atol=1e-14)
+    flat = np.array([0.1, 0.5, 0.2, 0.0, 0.0, np.pi / 2])  # roll a quarter turn: the axle along +y
+    with pytest.raises(ModelError, match="not finite at this state"):
+        f.constrained_dynamics(flat, np.zeros(6))

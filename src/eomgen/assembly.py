@@ -13,7 +13,7 @@ from .eom import EquationsOfMotion
 from .errors import ModelError
 from .methods import derive
 from .model import System
-from .state import integrate
+from .state import integrate, unit_quaternions
 
 HALVINGS = 30  # step halvings before a Gauss–Newton step counts as stalled (a least-squares minimum)
 
@@ -65,6 +65,7 @@ def assemble(system_or_f, q_guess, fixed=(), params=None, tol: float = 1e-12,
     q = np.array(q_guess, dtype=float)
     if q.shape != (f.nq,):
         raise ModelError(f"assemble: q_guess must have shape ({f.nq},), got {q.shape}")
+    q = unit_quaternions(system, q)  # R(q) is a rotation only for unit quaternions
     held = speed_indices(system, fixed, "assemble: fixed")
     free = [i for i in range(f.nv) if i not in held]
     r = f.closure_residual(q, params)
@@ -90,16 +91,6 @@ def assemble(system_or_f, q_guess, fixed=(), params=None, tol: float = 1e-12,
     raise ModelError(f"assemble: the closures cannot be satisfied{holding}: "
                      f"‖r‖ = {np.linalg.norm(r):.3e} > tol = {tol:.0e} after Gauss–Newton; worst row "
                      f"'{f.closure_rows[worst]}' = {r[worst]:.3e}")
-
-
-def unit_quaternions(system: System, q) -> np.ndarray:
-    """q with each quaternion (free flyer, ball joint) divided by its norm."""
-    q = np.array(q, dtype=float)
-    for b in system.bodies:
-        if b.index is not None and b.joint.group in ("SO3", "SE3"):
-            k = b.q_index + 3 * (b.joint.group == "SE3")
-            q[k:k + 4] /= np.linalg.norm(q[k:k + 4])
-    return q
 
 
 def project(system_or_f, q, u, params=None, tol: float = 1e-12) -> tuple[np.ndarray, np.ndarray]:

@@ -3,8 +3,9 @@
 Loop between frames a and b (world axes, J = J_a − J_b in the constrained directions)::
 
     point:    r = p_a − p_b,                          J = J_P,a − J_P,b
-    frame:    + r_R = ½ vee(R_a R_bᵀ − R_b R_aᵀ),      J = J_R,a − J_R,b   (ṙ_R = ω_a − ω_b at closure)
-    revolute: + r_i = t_iᵀ (n_b × n_a), i = 1, 2,     J = t_iᵀ (J_R,a − J_R,b),
+    frame:    + r_R = 2 vee(E − Eᵀ) / (1 + tr E),    J = J_R,a − J_R,b   (ṙ_R = ω_a − ω_b at closure)
+              E = R_a R_bᵀ: r_R = 2 tan(θ/2) e for a turn θ about e (zero only at θ = 0, not at a half turn)
+    revolute: + r_i = 2 t_iᵀ (n_b × n_a) / (1 + n_a · n_b), i = 1, 2,     J = t_iᵀ (J_R,a − J_R,b),
               n = R axis, t_i = R_a n_i (⟂ axis);    J̇u = t_iᵀ (α_a − α_b) + (ω_a × t_i)ᵀ (ω_a − ω_b)
 
 Rolling disk (centre p, axle e = R axis, ground normal n and tangents t1, t2, height h = n · p_ground)::
@@ -47,12 +48,12 @@ def loop_rows(kin, loop: Loop) -> Rows:
         return Rows(residual, J[:3, :], Jdot_u[:3, :])
     if loop.kind == "frame":
         E = matmul(R_a, R_b.T)
-        return Rows(residual.col_join(vee(E - E.T) / 2), J, Jdot_u)
+        return Rows(residual.col_join(vee(E - E.T) * (2 / (1 + E.trace()))), J, Jdot_u)
     n_a, n_b = matmul(R_a, loop.axis), kin.sub.add_matrix(matmul(R_b, loop.axis))
     w_a, w_b = (kin.omega(kin._frame(f).body) for f in (loop.frame_a, loop.frame_b))
     for n_i in loop.normals:
         t = kin.sub.add_matrix(matmul(R_a, n_i))
-        residual = residual.col_join(sp.Matrix([dot(t, cross(n_b, n_a))]))
+        residual = residual.col_join(sp.Matrix([2 * dot(t, cross(n_b, n_a)) / (1 + dot(n_a, n_b))]))
         J = J.col_join(t.T * J[3:6, :])
         Jdot_u = Jdot_u.col_join(sp.Matrix([dot(t, Jdot_u[3:6, 0]) + dot(cross(w_a, t), w_a - w_b)]))
     return Rows(residual, J[[0, 1, 2, 6, 7], :], Jdot_u[[0, 1, 2, 6, 7], :])

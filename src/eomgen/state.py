@@ -97,3 +97,14 @@ def integrate(system: System, q, u, dt: float) -> np.ndarray:
         else:
             q[k:k + j.dof] += u[i:i + j.dof] * dt
     return q
+
+
+def unit_quaternions(system: System, q) -> np.ndarray:
+    """q (one state, or states along the last axis) with each quaternion (free flyer, ball joint) divided
+    by its norm: R(q) is a rotation only for unit quaternions."""
+    q = np.array(q, dtype=float)
+    for b in system.bodies:
+        if b.index is not None and b.joint.group in ("SO3", "SE3"):
+            k = b.q_index + 3 * (b.joint.group == "SE3")
+            q[..., k:k + 4] /= np.linalg.norm(q[..., k:k + 4], axis=-1, keepdims=True)
+    return q

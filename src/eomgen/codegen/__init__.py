@@ -93,7 +93,7 @@ class NumericEoM:
         self.functions: dict[str, Generated] = {}
         self._python: dict[str, Callable] = {}  # Python versions for mpmath references
         self._built: dict[str, tuple[Callable, bool]] = {}  # how each function was built
-        self._row_size: np.ndarray | None = None  # size of each row of J_c (`_row_sizes`)
+        self._row_size: dict = {}  # size of each row of J_c per parameter values (`_row_sizes`)
         for name in eager(eom):  # T, U, tau and other frames are written when first asked for
             self._function(name, lambda name=name: eom.compact[name], symmetric=name == "M")
 
@@ -297,6 +297,7 @@ class NumericEoM:
 
     def closure_residual(self, q, params=None) -> np.ndarray:
         """The loops' and rolling disks' position residuals (`closure_rows`), zero when closed."""
+        self._contacts()
         if not self.closure_rows:
             raise ModelError("the system has no loops or rolling disks: add them with System.add_loop or "
                              "System.add_rolling")
@@ -322,6 +323,9 @@ class NumericEoM:
                                          *(x.row_names[2] for x in system.rolling)]]
 
     def _contacts(self):
+        if self.eom.kinematics.version != self.eom.system.version:
+            raise ModelError("the system changed after these functions were generated (a body, frame, "
+                             "contact, loop or rolling disk was added): derive and generate them again")
         if not self.constraint_rows:
             raise ModelError("the system has no contacts, loops or rolling disks: add them with "
                              "System.add_contact, add_loop or add_rolling")
@@ -329,21 +333,27 @@ class NumericEoM:
 
     def _row_sizes(self, params) -> np.ndarray:
         """The size of each row of J_c (with J̇_c u) at three random states (`random_states`: unit
-        quaternions); rows of size 0 (the z row of a loop in a plane mechanism; round-off below 1e-12 of the
-        largest row or of 1) no motion can violate."""
-        if self._row_size is None:
+        quaternions), per parameter values; rows of size 0 (the z row of a loop in a plane mechanism;
+        round-off below 1e-12 of the largest row or of 1) no motion can violate."""
+        self._function("J_c", lambda: self.eom.kinematics.constraint_jacobian()[0])
+        key = tuple(np.ravel(self._p(params, "J_c")))
+        if key not in self._row_size:
             q, u, _ = random_states(self.eom.system, 3, np.random.default_rng(0))
             rows = [np.abs(self.contact_jacobian(q[k], params)).max(axis=1)
                     + np.abs(self.contact_jacobian_dot_u(q[k], u[k], params)) for k in range(3)]
             size = np.max(rows, axis=0)
-            self._row_size = np.where(size > 1e-12 * max(1.0, size.max()), size, 0.0)  # round-off: 0
-        return self._row_size
+            self._row_size[key] = np.where(size > 1e-12 * max(1.0, size.max()), size, 0.0)  # round-off: 0
+        return self._row_size[key]
 
     def _held(self, q, params) -> tuple[np.ndarray, np.ndarray, list[str]]:
         """(mask, J, names) of the rows of J_c some motion can violate at q: they carry the forces; the
         others carry none. A row that vanishes only at q (below 1e-12 of its size, a singular configuration
-        of the constraint) is warned of."""
+        of the constraint) is warned of; a row that is not finite (a rolling disk lying flat) refused."""
         names, size, J = self._contacts(), self._row_sizes(params), self.contact_jacobian(q, params)
+        broken = [n for n, row in zip(names, J) if not np.all(np.isfinite(row))]
+        if broken:
+            raise ModelError(f"constraint rows {broken} are not finite at this state (a rolling disk whose "
+                             "axle is normal to the ground, lying flat, has no contact point)")
         held = (size > 0) & (np.abs(J).max(axis=1) > 1e-12 * size)
         lost = [n for n, s, h in zip(names, size, held) if s > 0 and not h]
         if lost:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ModelError
+from ..state import unit_quaternions
 from . import Generated, NumericEoM
 from .c_backend import CompiledEoM, extension_functions
 from .extension import compiler, python_headers
@@ -127,6 +128,7 @@ class NumericKane:
         q = np.array(q_guess, dtype=float)
         if q.shape[-1:] != (self.nq,):
             raise ModelError(f"assemble: q_guess: expected {self.nq} coordinates, got shape {q.shape}")
+        q = unit_quaternions(self.kane.system, q)
         for _ in range(iterations):
             fF = self._eval("holonomic", q, params=params)
             residual = np.max(np.abs(fF[..., 0]))

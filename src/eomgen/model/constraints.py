@@ -41,7 +41,8 @@ class Contact:
 class Loop:
     """frame_a and frame_b held together: origins coincide ("point", "spherical"), poses coincide
     ("frame"), or origins coincide and the relative rotation is about `axis` (frame_a's axes; "revolute").
-    Its force F (rows like `row_names`, world axes) acts on frame_a's body at its origin, −F on frame_b's."""
+    Its force F (rows like `row_names`: force along world x, y, z; torque along world x, y, z, or for a
+    revolute loop along t_i = R_a n_i ⟂ axis) acts on frame_a's body at its origin, −F on frame_b's."""
 
     name: str
     frame_a: str
@@ -99,22 +100,30 @@ def normals(axis: sp.Matrix, what: str) -> tuple[sp.Matrix, sp.Matrix]:
 
 
 def default_ground(gravity: sp.Matrix, name: str) -> Placement:
-    """The plane z = 0 with its normal against gravity's z component: +z when g_z ≤ 0, −z when g_z > 0;
-    refused when the sign cannot be decided (a symbol not declared positive or negative)."""
+    """The plane through the origin facing against gravity: normal −g/|g| (+z without gravity); refused
+    when the direction cannot be decided (a symbolic gravity off the z axis, or of unknown sign)."""
     g_z = gravity[2]
-    if g_z.is_positive:
-        return Placement(rotation=sp.diag(1, -1, -1))
-    if g_z.is_nonpositive:
-        return Placement()
-    raise ModelError(f"rolling disk '{name}': the sign of gravity's z component {g_z} is not known, so the "
-                     "side of the ground is not either: declare the symbol positive (sympy.Symbol(..., "
+    if gravity[0] == 0 and gravity[1] == 0:
+        if g_z.is_positive:
+            return Placement(rotation=sp.diag(1, -1, -1))
+        if g_z.is_nonpositive:
+            return Placement()
+    elif all(x.is_number for x in gravity):
+        n = unit(-gravity, f"rolling disk '{name}': gravity")
+        t1, t2 = normals(n, f"rolling disk '{name}': gravity")
+        return Placement(rotation=sp.Matrix.hstack(t1, t2, n))
+    raise ModelError(f"rolling disk '{name}': the direction of gravity {list(gravity)} is not known, so the "
+                     "side of the ground is not either: declare its symbol positive (sympy.Symbol(..., "
                      "positive=True)) or give ground=eg.Placement(...)")
 
 
 def loop(name: str, frame_a: str, frame_b: str, kind: str, axis) -> Loop:
-    """A checked `Loop` (the frames are checked by the system)."""
+    """A checked `Loop` (the system checks the frames); `axis` only for a revolute loop (default z)."""
     if kind not in LOOP_KINDS:
         raise ModelError(f"loop '{name}': kind must be one of {list(LOOP_KINDS)}, got {kind!r}")
+    if axis is not None and kind != "revolute":
+        raise ModelError(f"loop '{name}': an axis is given for a revolute loop only, not for kind {kind!r}")
+    axis = (0, 0, 1) if axis is None else axis
     axis = unit(vector3(axis, f"loop '{name}': axis"), f"loop '{name}': axis")
     n = normals(axis, f"loop '{name}': axis") if kind == "revolute" else ()
     return Loop(name, frame_a, frame_b, kind, axis, n)

@@ -312,23 +312,22 @@ class System:
             raise ModelError(f"contact at '{frame}': kind must be 'point' or 'frame', got {kind!r}")
         if frame not in self.frames and frame not in self._bodies:
             raise ModelError(f"contact: unknown frame {frame!r}; frames are {sorted(self.frames)}")
-        if any(c.frame == frame for c in self.contacts):
-            raise ModelError(f"contact at '{frame}' exists already")
+        self._new_constraint(frame, "contact at")
         contact = Contact(frame, kind)
         self.contacts.append(contact)
         self.version += 1
         return contact
 
-    def add_loop(self, frame_a: str, frame_b: str, kind: str = "point", axis=(0, 0, 1),
+    def add_loop(self, frame_a: str, frame_b: str, kind: str = "point", axis=None,
                  name: str | None = None) -> Loop:
         """A loop closure between two frames (or body origins; a world frame from add_frame(body=None)):
         kind "point" / "spherical" (origins coincide), "frame" (poses coincide) or "revolute" (origins
-        coincide, relative rotation about `axis`, frame_a's axes). Rows J = J_a − J_b (world axes)."""
+        coincide, relative rotation about `axis`, frame_a's axes, default z). Rows J = J_a − J_b (world
+        axes)."""
         name = f"{frame_a}-{frame_b}" if name is None else name
         if not isinstance(name, str) or not name:
             raise ModelError(f"loop name must be a non-empty string, got {name!r}")
-        if any(c.name == name for c in self.loops + self.rolling):
-            raise ModelError(f"loop '{name}' exists already")
+        self._new_constraint(name, "loop")
         bodies = []
         for frame in (frame_a, frame_b):
             if not isinstance(frame, str) or frame not in self.frames and frame not in self._bodies:
@@ -360,8 +359,7 @@ class System:
         name = f"{body.name}_rolling" if name is None else name
         if not isinstance(name, str) or not name:
             raise ModelError(f"rolling disk name must be a non-empty string, got {name!r}")
-        if any(c.name == name for c in self.loops + self.rolling):
-            raise ModelError(f"rolling disk '{name}' exists already")
+        self._new_constraint(name, "rolling disk")
         radius = nonnegative(radius, f"rolling disk '{name}': radius")
         if radius.is_zero:
             raise ModelError(f"rolling disk '{name}': radius must be positive")
@@ -378,6 +376,11 @@ class System:
         disk = Rolling(name, body, radius, axis, ground)
         self.rolling.append(disk)
         return disk
+
+    def _new_constraint(self, name: str, what: str) -> None:
+        """Contacts (by frame), loops and rolling disks name their rows and forces: one namespace."""
+        if any(c.name == name for c in (*self.contacts, *self.loops, *self.rolling)):
+            raise ModelError(f"{what} '{name}': a contact, loop or rolling disk of that name exists already")
 
     @staticmethod
     def _moving_ancestor(body: Body | None) -> Body | None:

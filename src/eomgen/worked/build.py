@@ -67,7 +67,7 @@ def solution(
     forms = {m: steps.Forms(eom, simplifier, form) for m, eom in derived.items()}
     first = forms[methods[0]]
     common = [steps.kinematics(first)]
-    if system.contacts or any(isinstance(j, FreeFlyer) for j in system.joints):
+    if system.constraint_rows() or any(isinstance(j, FreeFlyer) for j in system.joints):
         common.append(steps.contacts(first))
     per_method = {m: STEPS[m](forms[m]) for m in methods}
     results = {m: forms[m].results for m in methods}

@@ -289,7 +289,7 @@ def contacts(forms: Forms) -> Step:
     system, kin = forms.eom.system, forms.kin
     floating = any(isinstance(j, FreeFlyer) for j in system.joints)
     expressions = {"S": system.S}
-    if system.contacts:
+    if system.constraint_rows():
         J_c = kin.constraint_jacobian()[0]
         expressions["J_c"] = forms(J_c)
         n, k = len(system.u), J_c.rows
@@ -303,7 +303,8 @@ def contacts(forms: Forms) -> Step:
         "Floating base and contacts",
         (r"The base is not actuated: $S = [0 \; I]$ selects the actuated joints, " if floating else
          r"$S$ selects the actuated joints, ")
-        + r"$M \ddot q + b + g = S^T \tau + J_c^T F_c$. A contact holds $J_c \dot q = 0$ and "
+        + r"$M \ddot q + b + g = S^T \tau + J_c^T F_c$. A contact (a loop closure, a rolling disk) holds "
+        r"$J_c \dot q = 0$ and "
         r"$J_c \ddot q + \dot J_c \dot q = 0$, which gives the contact forces $F_c$ "
         r"($h = S^T \tau + \tau_{loads} - b - g$); the support projector $N_c$ ($J_c N_c = 0$) gives the "
         r"support-consistent dynamics $N_c^T (M \ddot q + b + g) = N_c^T S^T \tau$. Both involve $M^{-1}$: "
