@@ -158,6 +158,20 @@ def test_assemble_and_simulate_far_from_the_origin(x):
         eg.simulate(f, (q, u), (0, 0.5), tol=1e-30)
 
 
+@pytest.mark.parametrize("x", [0.0, 1e5])
+def test_steps_stay_near_the_guess(x):
+    """From θ2 = 3, θ3 = 0 (coupler folded back) the first Gauss–Newton step would turn the coupler by
+    turns: limited to 1 rad per step, the closure found (the crank's end plus the coupler meets the
+    rocker's end, by hand) lies within 2 rad of the guess."""
+    f = shifted_four_bar(x)
+    q = eg.assemble(f, [0.3, 3.0, 0.0], fixed=["th1"])
+    a, b, c, d = LENGTHS
+    np.testing.assert_allclose(a * np.array([np.cos(0.3), np.sin(0.3)])
+                               + b * np.array([np.cos(0.3 + q[1]), np.sin(0.3 + q[1])]),
+                               [d + c * np.cos(q[2]), c * np.sin(q[2])], atol=1e-10)
+    assert np.abs(q - [0.3, 3.0, 0.0]).max() < 2
+
+
 def test_simulate_backward_and_refused_times():
     """Time reversed: from the state the four-bar reaches at t = 1, (1, 0) with t_eval [1, 0.5, 0] gives
     back the forward states at 0.5 and 0 (to 1e-5), with projection and with Baumgarte; t_eval outside
