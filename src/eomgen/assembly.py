@@ -66,8 +66,8 @@ def _not_a_rate(system: System, name) -> str:
 
 
 def size(f: NumericEoM, q, params=None) -> float:
-    """max(1, the largest world coordinate |p| of the loop frames and rolling disks' centres at q) in the
-    system's length unit: r's position rows are differences of such p, so round-off leaves ~ε |p| in them
+    """max(1, the largest world coordinate ‖p‖_∞ of the loop frames and rolling disks' centres at q) in the
+    system's length unit: r's position rows are differences of such p, so round-off leaves ~ε ‖p‖_∞ in them
     (and in J_r) however small the mechanism is; 1 keeps an absolute floor near the origin."""
     kin, system = f.eom.kinematics, f.eom.system
     names = [n for x in system.loops for n in (x.frame_a, x.frame_b)] + [x.body.name for x in system.rolling]
@@ -81,9 +81,9 @@ def assemble(system_or_f, q_guess, fixed=(), params=None, tol: float | None = No
     `fixed` coordinates (or speeds) held. Gauss–Newton in the free speeds: with J_r the rows of J_c that
     carry r (`closure_index`, ṙ = J_r u) and its free columns, Δu = −J_r⁺ r (the minimum-norm step when
     there are more free speeds than rows; singular values below 1e-12 s of the largest dropped: round-off),
-    scaled to |Δu_i| ≤ 1 (rad or length unit: a trust region), q ← q ⊕ Δu (`eg.integrate`: quaternions
+    scaled to ‖Δu‖_∞ ≤ 1 (rad or length unit: a trust region), q ← q ⊕ Δu (`eg.integrate`: quaternions
     stay unit), the step halved while ‖r‖ grows. Until ‖r‖ ≤ tol, by default 1e-12 s with s = `size` at
-    q_guess (max(1, the largest |p| of the loop frames): the residual's round-off scale). Else ModelError:
+    q_guess (max(1, the largest ‖p‖_∞ of the loop frames): the residual's round-off scale). Else ModelError:
     the closures cannot be satisfied when Gauss–Newton stopped at a least-squares minimum ‖r‖ > 0 (r ⟂ the
     range of J_r), no closure found from this guess otherwise; with ‖r‖ and the worst row."""
     f = numeric(system_or_f, "assemble")
