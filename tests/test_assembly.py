@@ -11,11 +11,12 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import eomgen as eg
+from eomgen.assembly import speed_indices
 from eomgen.verify import to_pinocchio
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "examples"))
 from delta_robot import ANGLES, ARM, BASE, FOREARM, PLATFORM, SHOULDERS, delta_robot, guess  # noqa: E402
-from four_bar import four_bar  # noqa: E402
+from four_bar import LENGTHS, MASSES, four_bar, rod  # noqa: E402
 
 thetas = st.lists(st.floats(-0.3, 0.9), min_size=3, max_size=3)
 
@@ -111,19 +112,111 @@ def test_assemble_from_a_system_and_project_onto_the_legs():
     assert np.linalg.norm(f.contact_jacobian(q2) @ u) <= 1e-12
 
 
+@functools.cache
+def shifted_four_bar(x: float):
+    """examples/four_bar.py with its ground pivots at (x, 0, 0) and (x + d, 0, 0)."""
+    (a, b, c, d), system = LENGTHS, eg.System(gravity=(0, -9.81, 0))
+    crank = system.add_body("crank", joint=eg.Revolute("th1"), **rod(MASSES[0], a),
+                            placement=eg.Placement(translation=(x, 0, 0)))
+    coupler = system.add_body("coupler", parent=crank, joint=eg.Revolute("th2", actuated=False),
+                              placement=eg.Placement(translation=(a, 0, 0)), **rod(MASSES[1], b))
+    rocker = system.add_body("rocker", joint=eg.Revolute("th3", actuated=False),
+                             placement=eg.Placement(translation=(x + d, 0, 0)), **rod(MASSES[2], c))
+    system.add_frame("coupler_end", coupler, eg.Placement(translation=(b, 0, 0)))
+    system.add_frame("rocker_end", rocker, eg.Placement(translation=(c, 0, 0)))
+    system.add_loop("coupler_end", "rocker_end", kind="revolute", name="loop")
+    return eg.codegen(eg.derive(system, method="recursive"))
+
+
+def two_circles(theta1: float) -> np.ndarray:
+    """The coupler's end B (relative to the crank's pivot) on the circles |B − A| = b about the crank's end
+    A = a (cos θ1, sin θ1) and |B − D| = c about D = (d, 0): the upper of their two intersections."""
+    a, b, c, d = LENGTHS
+    A, D = a * np.array([np.cos(theta1), np.sin(theta1)]), np.array([d, 0.0])
+    e = np.linalg.norm(D - A)
+    along = (b**2 - c**2 + e**2) / (2 * e)
+    n = (D - A) / e
+    return A + along * n + np.sqrt(b**2 - along**2) * np.array([-n[1], n[0]])
+
+
+@pytest.mark.parametrize("x", [0.0, 1e4, 1e5])
+def test_assemble_and_simulate_far_from_the_origin(x):
+    """From the guess of examples/four_bar.py (coupler parallel to rocker: J_r singular) the closure at
+    θ1 = 0.3 is the two circles' intersection wherever the mechanism stands; 0.5 s with projection keeps
+    ‖r‖ within 1e-12 max(1, |p|) and the energy (no load) to 1e-6 J; `tol` reaches the projection."""
+    f = shifted_four_bar(x)
+    q = eg.assemble(f, [0.3, 1.2, 1.5], fixed=["th1"])
+    a, b, c, d = LENGTHS
+    B = two_circles(0.3)
+    np.testing.assert_allclose(a * np.array([np.cos(0.3), np.sin(0.3)])
+                               + b * np.array([np.cos(0.3 + q[1]), np.sin(0.3 + q[1])]), B, atol=1e-10)
+    np.testing.assert_allclose([d + c * np.cos(q[2]), c * np.sin(q[2])], B, atol=1e-10)
+    u = eg.reduce(f.eom, independent=["th1"]).R(q) @ [2.0]
+    sim = eg.simulate(f, (q, u), (0, 0.5))
+    assert sim.closure_drift.max() <= 1e-12 * max(1, x + d + c) and np.ptp(sim.energy) <= 1e-6
+    with pytest.raises(eg.ModelError, match="assemble: "):
+        eg.simulate(f, (q, u), (0, 0.5), tol=1e-30)
+
+
+@pytest.mark.parametrize("x", [0.0, 1e5])
+def test_steps_stay_near_the_guess(x):
+    """From θ2 = 3, θ3 = 0 (coupler folded back) the first Gauss–Newton step would turn the coupler by
+    turns: limited to 1 rad per step, the closure found (the crank's end plus the coupler meets the
+    rocker's end, by hand) lies within 2 rad of the guess."""
+    f = shifted_four_bar(x)
+    q = eg.assemble(f, [0.3, 3.0, 0.0], fixed=["th1"])
+    a, b, c, d = LENGTHS
+    np.testing.assert_allclose(a * np.array([np.cos(0.3), np.sin(0.3)])
+                               + b * np.array([np.cos(0.3 + q[1]), np.sin(0.3 + q[1])]),
+                               [d + c * np.cos(q[2]), c * np.sin(q[2])], atol=1e-10)
+    assert np.abs(q - [0.3, 3.0, 0.0]).max() < 2
+
+
+def test_simulate_backward_and_refused_times():
+    """Time reversed: from the state the four-bar reaches at t = 1, (1, 0) with t_eval [1, 0.5, 0] gives
+    back the forward states at 0.5 and 0 (to 1e-5), with projection and with Baumgarte; t_eval outside
+    t_span or out of order, and an unknown method, refused."""
+    f = shifted_four_bar(0.0)
+    q = eg.assemble(f, [0.3, 1.2, 1.5], fixed=["th1"])
+    u = eg.reduce(f.eom, independent=["th1"]).R(q) @ [2.0]
+    forward = eg.simulate(f, (q, u), (0, 1), t_eval=[0, 0.5, 1])
+    for stabilization in ("projection", "baumgarte"):
+        back = eg.simulate(f, (forward.q[-1], forward.u[-1]), (1, 0), t_eval=[1, 0.5, 0],
+                           stabilization=stabilization)
+        np.testing.assert_array_equal(back.t, [1, 0.5, 0])
+        np.testing.assert_allclose(back.q[::-1], forward.q, atol=1e-5)
+        np.testing.assert_allclose(back.u[::-1], forward.u, atol=1e-5)
+    for stabilization in ("projection", None):
+        with pytest.raises(eg.ModelError, match=r"t_eval \[2.0\] outside t_span \(0.0, 1.0\)"):
+            eg.simulate(f, (q, u), (0, 1), t_eval=[0.5, 2], stabilization=stabilization)
+        with pytest.raises(eg.ModelError, match="t_eval must run from t0 = 1.0 to t1 = 0.0 in order"):
+            eg.simulate(f, (q, u), (1, 0), t_eval=[0, 0.5], stabilization=stabilization)
+    with pytest.raises(eg.ModelError, match=r"method must be one of \['RK45', .*'LSODA'\], got 'Euler'"):
+        eg.simulate(f, (q, u), (0, 1), method="Euler", stabilization=None)
+
+
 def test_unsatisfiable_closure_says_by_how_much():
     """The four-bar with crank (th1 = 0) and rocker (th3 = π) held: the coupler's end (length 1 about
     (0.3, 0)) comes no closer than 0.8 to the rocker's end (0.1, 0), along x; the Delta with its platform
     2 m down."""
     f = eg.codegen(eg.derive(four_bar(), method="recursive"))
-    with pytest.raises(eg.ModelError, match=r"with \['th1dot', 'th3dot'\] held: ‖r‖ = 8.000e-01 .* "
-                                            r"worst row 'loop.x' = -8.000e-01"):
+    with pytest.raises(eg.ModelError, match=r"cannot be satisfied with \['th1dot', 'th3dot'\] held: they "
+                                            r"fail by ‖r‖ = 8.000e-01 .* worst row 'loop.x' = -8.000e-01"):
         eg.assemble(f, [0.0, 3.0, np.pi], fixed=["th1", "th3"])
     _, f, _ = delta()
     q = guess([0.3, 0.3, 0.3])
     q[2] = -2.0
     with pytest.raises(eg.ModelError, match=r"cannot be satisfied .* ‖r‖ = .* worst row 'leg\d.z'"):
         eg.assemble(f, q, fixed=SHOULDERS + ["platform_z"])
+
+
+def test_a_guess_that_stops_short_is_not_called_unsatisfiable():
+    """One Gauss–Newton step from the four-bar's example guess leaves ‖r‖ > 0 where a step still helps:
+    no closure found from this guess (the closure exists: see the test above)."""
+    f = shifted_four_bar(0.0)
+    with pytest.raises(eg.ModelError, match=r"no closure found from this guess with \['th1dot'\] held "
+                                            r"\(‖r‖ = .* worst row 'loop\.[xy]'"):
+        eg.assemble(f, [0.3, 1.2, 1.5], fixed=["th1"], max_iter=1)
 
 
 def test_bad_fixed_names_are_refused():
@@ -136,6 +229,21 @@ def test_bad_fixed_names_are_refused():
         eg.assemble(f, np.zeros(3), fixed=["shoulder1"])
     with pytest.raises(eg.ModelError, match="no loops or rolling disks"):
         eg.assemble(_tree(), [0.0])
+
+
+def test_coordinates_that_are_no_speed_name_their_joint():
+    """A free flyer's position and quaternion components and a planar joint's x are not speeds: the hint
+    names the joint and its speeds."""
+    f = rolling_disk()
+    for name in ("base_x", "base_qw"):
+        with pytest.raises(eg.ModelError, match=rf"'{name}' \(a coordinate of FreeFlyer joint 'base' whose "
+                                                r"rate is no one speed: name its speeds \['base_vx'"):
+            eg.assemble(f, [0, 0, 0.3, 0, 0, 0, 1], fixed=[name])
+    system = eg.System()
+    system.add_body("cart", joint=eg.Planar("cart"), mass=1)
+    with pytest.raises(eg.ModelError, match=r"'cart_x' \(a coordinate of Planar joint 'cart' whose rate "
+                                            r"is no one speed: name its speeds \['cart_vx', 'cart_vy'"):
+        speed_indices(system, ["cart_x"], "fixed")
 
 
 def _tree() -> eg.System:

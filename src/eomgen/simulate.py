@@ -18,6 +18,7 @@ from .assembly import numeric, project
 from .errors import ModelError
 
 STABILIZATIONS = ("projection", "baumgarte", None)
+METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")  # solve_ivp's
 PROJECTING = {"RK23": RK23, "RK45": RK45, "DOP853": DOP853}  # explicit: (t, x, ẋ) is their whole state
 
 
@@ -36,17 +37,22 @@ class Simulation:
 
 def simulate(f, x0, t_span, tau_a=None, stabilization: str | None = "projection",
              baumgarte: tuple[float, float] = (10.0, 10.0), params=None, method: str = "DOP853",
-             t_eval=None, rtol: float = 1e-10, atol: float = 1e-10, max_step: float = np.inf) -> Simulation:
+             t_eval=None, rtol: float = 1e-10, atol: float = 1e-10, max_step: float = np.inf,
+             tol: float | None = None) -> Simulation:
     """Integrate from x0 = (q0, u0) (or [q0, u0]) over t_span = (t0, t1) with actuator torques tau_a (None,
     values, or a function (t, q, u) → values) and the module's `stabilization` ((α, β) = `baumgarte`:
-    critically damped at α = β). With projection, x0 is projected first and the states are those after
-    each accepted step (or at t_eval, interpolated in the step and projected); else solve_ivp's."""
+    critically damped at α = β); t1 < t0 runs backward. With projection (`tol`: `eg.project`'s), x0 is
+    projected first and the states are those after each accepted step (or at t_eval, interpolated in the
+    step and projected); else solve_ivp's. t_eval within t_span, in the direction of time."""
     f = numeric(f, "simulate")
     if stabilization not in STABILIZATIONS:
         raise ModelError(f"simulate: stabilization must be one of {STABILIZATIONS}, got {stabilization!r}")
     if stabilization == "projection" and method not in PROJECTING:
         raise ModelError(f"simulate: projection needs an explicit Runge–Kutta method {list(PROJECTING)}, "
                          f"got {method!r}")
+    if method not in METHODS:
+        raise ModelError(f"simulate: method must be one of {list(METHODS)}, got {method!r}")
+    t_eval = _times(t_span, t_eval)
     y0 = np.concatenate([np.ravel(x) for x in x0]) if isinstance(x0, tuple) else np.asarray(x0, dtype=float)
     if y0.shape != (f.nq + f.nv,):
         raise ModelError(f"simulate: x0 must be (q0, u0) with {f.nq} + {f.nv} values, got {y0.shape[0]}")
@@ -60,7 +66,7 @@ def simulate(f, x0, t_span, tau_a=None, stabilization: str | None = "projection"
 
     options = dict(rtol=rtol, atol=atol, max_step=max_step)
     if stabilization == "projection":
-        t, y = _projected(f, rhs, y0, t_span, PROJECTING[method], t_eval, params, options)
+        t, y = _projected(f, rhs, y0, t_span, PROJECTING[method], t_eval, params, options, tol)
     else:
         sol = solve_ivp(rhs, t_span, y0, method=method, t_eval=t_eval, **options)
         if sol.status < 0:
@@ -69,14 +75,28 @@ def simulate(f, x0, t_span, tau_a=None, stabilization: str | None = "projection"
     return _report(f, t, y, params, loads=tau_a is not None or bool(f.eom.load_names))
 
 
-def _projected(f, rhs, y0, t_span, method, t_eval, params, options) -> tuple[np.ndarray, np.ndarray]:
-    """Step `method` and project (q, u) after each accepted step (its x and ẋ reset)."""
+def _times(t_span, t_eval) -> np.ndarray | None:
+    """t_eval as an array, refused outside t_span = (t0, t1) or out of the order from t0 to t1."""
+    if t_eval is None:
+        return None
+    t0, t1 = (float(t) for t in t_span)
+    t_eval = np.atleast_1d(np.asarray(t_eval, dtype=float))
+    outside = t_eval[(t_eval < min(t0, t1)) | (t_eval > max(t0, t1))]
+    if outside.size:
+        raise ModelError(f"simulate: t_eval {outside.tolist()} outside t_span ({t0}, {t1})")
+    if np.any(np.diff(t_eval) * np.sign(t1 - t0) < 0):
+        raise ModelError(f"simulate: t_eval must run from t0 = {t0} to t1 = {t1} in order")
+    return t_eval
+
+
+def _projected(f, rhs, y0, t_span, method, t_eval, params, options, tol) -> tuple[np.ndarray, np.ndarray]:
+    """Step `method` and project (q, u) after each accepted step (its x and ẋ reset); the t_eval
+    between the step's ends (in the direction of time) from its dense output, projected."""
 
     def projected(y):
-        return np.concatenate(project(f, y[:f.nq], y[f.nq:], params))
+        return np.concatenate(project(f, y[:f.nq], y[f.nq:], params, tol))
 
     solver = method(rhs, t_span[0], projected(y0), t_span[1], **options)
-    t_eval = None if t_eval is None else np.asarray(t_eval, dtype=float)
     ts, ys = ([], []) if t_eval is not None else ([solver.t], [solver.y])
     if t_eval is not None and t_eval.size and t_eval[0] == solver.t:
         ts, ys = [solver.t], [solver.y]
@@ -85,7 +105,8 @@ def _projected(f, rhs, y0, t_span, method, t_eval, params, options) -> tuple[np.
         if solver.status == "failed":
             raise ModelError(f"simulate: the integrator failed at t = {solver.t}: {message}")
         if t_eval is not None:
-            inside = t_eval[(t_eval > solver.t_old) & (t_eval <= solver.t)]
+            after = (t_eval - solver.t_old) * solver.direction
+            inside = t_eval[(after > 0) & ((t_eval - solver.t) * solver.direction <= 0)]
             if inside.size:
                 dense = solver.dense_output()
                 ts.extend(inside)
