@@ -169,7 +169,7 @@ def test_loops_equal_pinocchio_constraint_dynamics(case):
 @settings(max_examples=10, phases=[__import__("hypothesis").Phase.generate], **COMMON)
 @given(case=loops(rate_axes=True))
 def test_loop_bias_is_the_rate_of_J_u(case):
-    """J̇u = d/dt (J(q(t)) u) at fixed u, central differences along q(t) = integrate(q, u, t); every joint."""
+    """J̇u = d/dt (J(q(t)) u) at fixed u, central differences along q(t) = integrate(q, u, t), any joint."""
     tree, a, b, kind, seed = case
     rng = np.random.default_rng(seed)
     system, q, u = closed_tree(tree, kind, a, b, rng)
@@ -182,36 +182,37 @@ def test_loop_bias_is_the_rate_of_J_u(case):
     assert np.allclose(f.contact_jacobian_dot_u(q, u), rate @ u, atol=1e-6 * (1 + np.abs(rate @ u).max()))
 
 
+def at(*translation) -> eg.Placement:
+    return eg.Placement(translation=translation)
+
+
+def link(system, name, joint, parent=None, mass=1.0, com=(0, 0, 0), placement=None):
+    """A body with the inertia diag(0.1, 0.2, 0.25)."""
+    return system.add_body(
+        name,
+        parent=parent,
+        joint=joint,
+        mass=mass,
+        com=com,
+        inertia=np.diag([0.1, 0.2, 0.25]),
+        placement=placement,
+    )
+
+
 def test_revolute_loop_replacing_a_joint_equals_the_tree():
     """A chain world → A → B → C with revolute joints; B cut off the chain onto a free flyer and held to A by
     a revolute loop: the constrained accelerations are the tree's (Pinocchio aba: A's and C's q̈, B's spatial
     acceleration in its own axes), the loop force is minus the joint wrench B gets from A (rnea's data.f).
     """
     rng = np.random.default_rng(3)
-    inertia = np.diag([0.1, 0.2, 0.25])
     joint_B = eg.Placement(
         rotation=S.rotation_from_quaternion(rng.normal(size=4)), translation=(0.4, 0.1, -0.2)
     )
     tree = eg.System(gravity=(0, 0, -9.81))
-    tree.add_body("A", joint=eg.Revolute("a", axis=(0, 1, 0)), mass=2, com=(0.2, 0, 0.1), inertia=inertia)
-    tree.add_body(
-        "B",
-        parent="A",
-        joint=eg.Revolute("b", axis=(0, 0, 1)),
-        mass=1.5,
-        com=(0.1, 0.2, 0),
-        inertia=inertia,
-        placement=joint_B,
-    )
-    tree.add_body(
-        "C",
-        parent="B",
-        joint=eg.Revolute("c", axis=(1, 0, 0)),
-        mass=1,
-        com=(0, 0.1, 0.3),
-        inertia=inertia,
-        placement=eg.Placement(translation=(0.3, 0, 0.1)),
-    )
+    link(tree, "A", joint=eg.Revolute("a", axis=(0, 1, 0)), mass=2, com=(0.2, 0, 0.1))
+    link(tree, "B", eg.Revolute("b", axis=(0, 0, 1)), "A", 1.5, (0.1, 0.2, 0), joint_B)
+    joint_C = eg.Placement(translation=(0.3, 0, 0.1))
+    link(tree, "C", eg.Revolute("c", axis=(1, 0, 0)), "B", 1, (0, 0.1, 0.3), joint_C)
     q, u, tau = rng.uniform(-1, 1, 3), rng.uniform(-1, 1, 3), rng.uniform(-1, 1, 3) * [1, 0, 1]  # b passive
     model = to_pinocchio(tree)
     data = model.createData()
@@ -222,17 +223,9 @@ def test_revolute_loop_replacing_a_joint_equals_the_tree():
     oMB, v_B, a_B, f_B = data.oMi[jB], data.v[jB], data.a[jB], data.f[jB]
 
     cut = eg.System(gravity=(0, 0, -9.81))
-    cut.add_body("A", joint=eg.Revolute("a", axis=(0, 1, 0)), mass=2, com=(0.2, 0, 0.1), inertia=inertia)
-    cut.add_body("B", joint=eg.FreeFlyer("base"), mass=1.5, com=(0.1, 0.2, 0), inertia=inertia)
-    cut.add_body(
-        "C",
-        parent="B",
-        joint=eg.Revolute("c", axis=(1, 0, 0)),
-        mass=1,
-        com=(0, 0.1, 0.3),
-        inertia=inertia,
-        placement=eg.Placement(translation=(0.3, 0, 0.1)),
-    )
+    link(cut, "A", joint=eg.Revolute("a", axis=(0, 1, 0)), mass=2, com=(0.2, 0, 0.1))
+    link(cut, "B", joint=eg.FreeFlyer("base"), mass=1.5, com=(0.1, 0.2, 0))
+    link(cut, "C", eg.Revolute("c", axis=(1, 0, 0)), "B", 1, (0, 0.1, 0.3), joint_C)
     cut.add_frame("joint b", "A", joint_B)
     cut.add_loop("joint b", "B", kind="revolute", axis=(0, 0, 1))
     f = eg.codegen(eg.derive(cut, method="recursive"))
@@ -255,25 +248,9 @@ def test_free_cut_with_the_loop_cut_open_equals_the_constrained_dynamics():
     """A spatial loop between two branches: the cut-free balances with the loop force as unknowns, solved at
     a state, give the u̇ and loop forces of the constrained dynamics."""
     system = eg.System(gravity=(0, 0, -9.81))
-    inertia = np.diag([0.1, 0.2, 0.25])
-    system.add_body("a1", joint=eg.Revolute("q1", axis=(0, 0, 1)), mass=1, com=(0.2, 0, 0), inertia=inertia)
-    system.add_body(
-        "a2",
-        parent="a1",
-        joint=eg.Revolute("q2", axis=(0, 1, 0)),
-        mass=1,
-        com=(0.2, 0, 0),
-        inertia=inertia,
-        placement=eg.Placement(translation=(0.5, 0, 0)),
-    )
-    system.add_body(
-        "b1",
-        joint=eg.Spherical("ball"),
-        mass=1,
-        com=(0, 0, 0.2),
-        inertia=inertia,
-        placement=eg.Placement(translation=(0.6, 0.4, 0)),
-    )
+    link(system, "a1", joint=eg.Revolute("q1", axis=(0, 0, 1)), mass=1, com=(0.2, 0, 0))
+    link(system, "a2", eg.Revolute("q2", axis=(0, 1, 0)), "a1", 1, (0.2, 0, 0), at(0.5, 0, 0))
+    link(system, "b1", eg.Spherical("ball"), None, 1, (0, 0, 0.2), at(0.6, 0.4, 0))
     system.add_frame("tip", "a2", eg.Placement(translation=(0.4, 0, 0)))
     system.add_frame("end", "b1", eg.Placement(translation=(0, 0, 0.5)))
     system.add_loop("tip", "end", kind="point")
@@ -352,10 +329,19 @@ def test_forces_follow_the_parameters_and_a_changed_system_is_refused():
     values); functions generated before a contact was added are refused."""
     alpha = sp.Symbol("alpha")
     system = eg.System(gravity=(0, 0, -9.81))
-    tilt = eg.Placement(rotation=sp.Matrix([[1, 0, 0], [0, sp.cos(alpha), -sp.sin(alpha)],
-                                            [0, sp.sin(alpha), sp.cos(alpha)]]))
-    system.add_body("crank", joint=eg.Revolute("q", axis=(0, 0, 1)), mass=1, com=(0.5, 0, 0),
-                    inertia=np.eye(3) * 0.1, placement=tilt)
+    tilt = eg.Placement(
+        rotation=sp.Matrix(
+            [[1, 0, 0], [0, sp.cos(alpha), -sp.sin(alpha)], [0, sp.sin(alpha), sp.cos(alpha)]]
+        )
+    )
+    system.add_body(
+        "crank",
+        joint=eg.Revolute("q", axis=(0, 0, 1)),
+        mass=1,
+        com=(0.5, 0, 0),
+        inertia=np.eye(3) * 0.1,
+        placement=tilt,
+    )
     system.add_frame("tip", "crank", eg.Placement(translation=(1, 0, 0)))
     system.add_frame("pin", None, eg.Placement(translation=(1, 0, 0)))
     system.add_loop("tip", "pin", kind="point")
