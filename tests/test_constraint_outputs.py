@@ -157,3 +157,12 @@ def test_row_names_cannot_inject_code(tmp_path):
     code = re.sub(r"/\*.*?\*/", "", header, flags=re.S)  # what the compiler sees
     assert "injected" not in code and header.count("*/") == header.count("/*")
     assert header.count("int injected; /?") == 3 * 3 + 2  # 3 rows × 3 functions, the frame's J and J̇u
+
+
+def test_equations_of_a_system_changed_since_are_refused(tmp_path):
+    system = four_bar()
+    eom = eg.derive(system, method="recursive")
+    system.add_loop("crank", "rocker_end", kind="point", name="second")
+    for write in (lambda: eg.write_module(eom, tmp_path / "m.py"), lambda: eg.write_c(eom, tmp_path)):
+        with pytest.raises(eg.ModelError, match="the system changed after these equations were derived"):
+            write()
