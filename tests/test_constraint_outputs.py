@@ -160,6 +160,7 @@ def test_row_names_cannot_inject_code(tmp_path):
 
 
 def test_equations_of_a_system_changed_since_are_refused(tmp_path):
+    """A loop added after the derivation: neither output is written without it."""
     system = four_bar()
     eom = eg.derive(system, method="recursive")
     system.add_loop("crank", "rocker_end", kind="point", name="second")

@@ -10,7 +10,6 @@ from pathlib import Path
 
 from .. import __version__
 from ..eom import EquationsOfMotion
-from ..errors import ModelError
 from . import QUANTITIES, NumericEoM, equations, quantities
 from .parameters import RUNTIME as PARAMETER_RUNTIME
 from .runtime import RUNTIME
@@ -72,9 +71,6 @@ def constraint_outputs(eom: EquationsOfMotion) -> list[tuple[str, str, str, Call
     or rolling disks) and the closure residual (when it has loops or rolling disks)."""
     system, kin = eom.system, eom.kinematics
     rows, closure = system.constraint_rows(), system.closure_rows()
-    if rows and kin.version != system.version:
-        raise ModelError("the system changed after these equations were derived (a body, frame, contact, "
-                         "loop or rolling disk was added): derive them again")
     outputs = [("J_c", "contact_jacobian", "J_c: the stacked rows of every contact, loop and rolling disk, "
                 "world-aligned axes", lambda: kin.constraint_jacobian()[0], rows),
                ("Jdot_c_u", "contact_jacobian_dot_u", "J̇_c u, stacked like J_c's rows",
