@@ -14,6 +14,7 @@ from ..errors import ModelError
 from ..progress import progress
 from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer
 from .extension import build, compiler, python_headers
+from .module import constraint_outputs
 from .numpy_backend import C, C_TRIG
 from .parameters import Parameters
 
@@ -95,10 +96,12 @@ def comment(text: str) -> str:
 def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
             frames: list[str] | None = None) -> tuple[Path, Path]:
     """Plain C (no Python) for a controller: <name>.c and <name>.h with <name>_<quantity> for M, b, g,
-    nle, T, U (those derived) and tau, and per frame <name>_J_<k>, <name>_Jdot_u_<k> (default: the
-    frames of derive(frames=...), else all), each f(q, u, ud, p, out). The header documents the
-    inputs index by index (p[k]: the parameters sorted by name), and per function its output
-    (row-major, zeroed by the caller) and the entries of q, u, ud, p it reads."""
+    nle, T, U (those derived) and tau, per frame <name>_J_<k>, <name>_Jdot_u_<k> (default: the
+    frames of derive(frames=...), else all), and with contacts, loops or rolling disks <name>_J_c,
+    <name>_Jdot_c_u and (loops, disks) <name>_closure, each f(q, u, ud, p, out). The header documents
+    the inputs index by index (p[k]: the parameters sorted by name), and per function its output
+    (row-major, zeroed by the caller; the constraint rows by name) and the entries of q, u, ud, p it
+    reads."""
     equations(eom, "write_c")
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,63}", name):
         raise ModelError(f"write_c: name must be a C identifier, got {name!r}")
@@ -106,19 +109,22 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
     directory.mkdir(parents=True, exist_ok=True)
     c = writer(eom, C)
     frames = list(eom.frames or eom.system.frames) if frames is None else list(frames)
-    parts = [(k, expression(eom, k), k == "M", QUANTITIES[k]) for k in quantities(eom)]
+    parts = [(k, expression(eom, k), k == "M", QUANTITIES[k], []) for k in quantities(eom)]
     for k, frame in enumerate(frames):
         parts += [(f"J_{k}", eom.kinematics.jacobian(frame), False,
-                   f"6 x NV Jacobian [J_P; J_R] of frame {frame}, world-aligned axes"),
+                   f"6 x NV Jacobian [J_P; J_R] of frame {frame}, world-aligned axes", []),
                   (f"Jdot_u_{k}", eom.kinematics.jacobian_dot_u(frame), False,
-                   f"J̇ u of frame {frame} ([linear; angular])")]
+                   f"J̇ u of frame {frame} ([linear; angular])", [])]
+    parts += [(key, expr(), False, what, names)
+              for key, _, what, expr, names in constraint_outputs(eom)]
     body, decls = ["#include <math.h>", f'#include "{name}.h"', ""], []
-    for key, expr, symmetric, what in progress(parts, "writing C", unit="function"):
+    for key, expr, symmetric, what, names in progress(parts, "writing C", unit="function"):
         source, (rows, cols), _ = c.source(f"{name}_{key}", expr, symmetric)
         body.append(source)
         used = "; ".join(f"{arg}[{', '.join(map(str, ks))}]" for arg, ks in reads(source).items() if ks)
-        decls.append(f"/* {comment(what)}\n * out: {rows} x {cols}, row-major; reads {used or 'nothing'} "
-                     f"*/\n{source.split(chr(10))[0]};")
+        named = "".join(f"\n *   row {r}: {comment(row)}" for r, row in enumerate(names))
+        decls.append(f"/* {comment(what)}{named}\n * out: {rows} x {cols}, row-major; reads "
+                     f"{used or 'nothing'} */\n{source.split(chr(10))[0]};")
     c_path, h_path = directory / f"{name}.c", directory / f"{name}.h"
     c_path.write_text("\n".join(body))
     h_path.write_text(header(eom, name) + "\n\n".join(decls) + "\n\n#endif\n")
