@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .constraints import constraint_rows
+from .constraint_rows import constraint_rows
 from .errors import ModelError
 from .linalg import cross, dot, matmul, scale
 from .model import FlexibleLink, Placement
@@ -208,7 +208,7 @@ class Kinematics:
 
     def constraint_jacobian(self) -> tuple[sp.Matrix, sp.Matrix]:
         """(J_c, J̇_c u): the rows of every contact, loop and rolling disk stacked (`System.constraint_rows`;
-        see `constraints`)."""
+        see `constraint_rows`)."""
         rows = self._cached("constraints", lambda: constraint_rows(self))
         return rows.J, rows.Jdot_u
 

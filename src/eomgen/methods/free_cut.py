@@ -25,7 +25,7 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
-from ..constraints import loop_rows
+from ..constraint_rows import loop_rows
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
 from ..model.loads import Point

@@ -33,7 +33,7 @@ import sympy as sp
 from ..display import kane_markdown, kane_math
 from ..eom import ClosedForms, EquationsOfMotion
 from ..errors import ModelError
-from ..constraints import rolling_rows
+from ..constraint_rows import rolling_rows
 from ..kinematics import Kinematics
 from ..model import FlexibleLink
 from ..model.system import System
