@@ -16,7 +16,7 @@ from .progress import quiet
 from .reduction import reduce
 from .simplification import simplified
 from .worked import Solution, Step, solution
-from .state import integrate, random_states
+from .state import difference, integrate, random_states
 from .simulate import simulate
 from .tradeoff import tradeoff
 from .verify import verify
@@ -25,5 +25,5 @@ __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed
            "Kinematics", "ModelError", "Placement", "Planar", "Prismatic", "Revolute", "Solution", "Spherical", "Step",
            "System", "Translation", "Universal", "assemble", "codegen", "derive", "from_dh", "from_mjcf",
            "from_urdf", "integrate", "kane", "project", "quiet", "random_states", "reduce", "robots",
-           "simplified", "simulate", "solution",
+           "difference", "simplified", "simulate", "solution",
            "tradeoff", "verify", "write_c", "write_module"]

@@ -1,5 +1,6 @@
-"""Numeric states of a system: random valid states, and q integrated with u on the configuration
-manifold of each joint (`Joint.group`): unit quaternions stay unit quaternions."""
+"""Numeric states of a system: random valid states, q integrated with u on the configuration manifold
+of each joint (`Joint.group`; unit quaternions stay unit quaternions), and the difference of two
+configurations, the u that integrate carries from one to the other."""
 from __future__ import annotations
 
 import numpy as np
@@ -96,6 +97,76 @@ def integrate(system: System, q, u, dt: float) -> np.ndarray:
             q[k + 2] += u[i + 2] * dt
         else:
             q[k:k + j.dof] += u[i:i + j.dof] * dt
+    return q
+
+
+def _log_so3(quat: np.ndarray) -> np.ndarray:
+    """The rotation vector ω of a quaternion (x, y, z, w) on the shorter path (w ≥ 0):
+    ω = 2 atan2(|v|, w) v/|v|, accurate near the identity (→ 2 v/w) and near a half turn (w → 0)."""
+    v, w = (quat[:3], quat[3]) if quat[3] >= 0 else (-quat[:3], -quat[3])
+    s = np.linalg.norm(v)
+    return (2 * np.arctan2(s, w) / s if s > 0 else 2 / w) * v
+
+
+def _inverse_left_jacobian(w: np.ndarray) -> np.ndarray:
+    """V(ω)⁻¹ = 1 − ½ [ω]× + (1 − (θ/2) cot(θ/2))/θ² [ω]×² for |ω| = θ ≤ π (series where it cancels)."""
+    t2 = w @ w
+    W = _skew(w)
+    if t2 < 1e-4:
+        c = 1 / 12 + t2 / 720 + t2**2 / 30240
+    else:
+        half = np.sqrt(t2) / 2
+        c = (1 - half * np.cos(half) / np.sin(half)) / t2
+    return np.eye(3) - W / 2 + c * W @ W
+
+
+def difference(system: System, q0, q1) -> np.ndarray:
+    """q1 ⊖ q0, the u with integrate(system, q0, u, 1) = q1, as pinocchio.difference (one state):
+    vector joints q1 − q0; a ball joint ω = log(R0ᵀ R1); a free flyer Pinocchio's log6 of M0⁻¹ M1,
+    ω = log(R0ᵀ R1), v = V(ω)⁻¹ R0ᵀ (p1 − p0); a planar joint the same in the plane with the angle
+    θ1 − θ0 taken within ±π (integrate then returns q1's pose, its angle up to 2π), as the rotations take
+    the shorter path (q1's quaternion up to sign)."""
+    if not isinstance(system, System):
+        raise ModelError(f"difference: expected a System, got {type(system).__name__}")
+    q0, q1 = (_configuration(system, q, name) for q, name in ((q0, "q0"), (q1, "q1")))
+    u = np.zeros(system.nv)
+    for b in system.bodies:
+        if b.index is None:
+            continue
+        j, k, i = b.joint, b.q_index, b.index
+        if j.group in ("SO3", "SE3"):
+            r = k + 3 * (j.group == "SE3")
+            quat = _turn(q0[r:r + 4] * [-1, -1, -1, 1], q1[r:r + 4])  # q0⁻¹ ⊗ q1
+            w = _log_so3(quat)
+            if j.group == "SE3":
+                R0 = _quaternion_rotation(*q0[r:r + 4])
+                u[i:i + 3] = _inverse_left_jacobian(w) @ R0.T @ (q1[k:k + 3] - q0[k:k + 3])
+                i += 3
+            u[i:i + 3] = w
+        elif j.group == "SE2":
+            w = q1[k + 2] - q0[k + 2]
+            w -= 2 * np.pi * np.round(w / (2 * np.pi))
+            c, s = np.cos(q0[k + 2]), np.sin(q0[k + 2])
+            d = np.array([[c, s], [-s, c]]) @ (q1[k:k + 2] - q0[k:k + 2])
+            u[i:i + 3] = np.r_[_inverse_left_jacobian(np.r_[0.0, 0.0, w])[:2, :2] @ d, w]
+        else:
+            u[i:i + j.dof] = q1[k:k + j.dof] - q0[k:k + j.dof]
+    return u
+
+
+def _configuration(system: System, q, name: str) -> np.ndarray:
+    """One configuration (nq,) of finite numbers, its quaternions made unit."""
+    try:
+        q = np.asarray(q, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"difference: {name} must be an array of numbers, got {type(q).__name__}") from None
+    if q.shape != (system.nq,):
+        raise ModelError(f"difference: {name} must have shape ({system.nq},) (one configuration), "
+                         f"got {q.shape}")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        q = unit_quaternions(system, q)
+    if not np.isfinite(q).all():
+        raise ModelError(f"difference: {name} has non-finite entries or a zero quaternion")
     return q
 
 
