@@ -14,6 +14,7 @@ from ..errors import ModelError
 from ..methods.kane import KaneEquations
 from ..state import random_states
 from .contacts import contact_dynamics, support_projector
+from .kinematic_functions import KinematicFunctions
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
 from .runtime import mpmath_functions, runtime_namespace
@@ -75,7 +76,7 @@ def eager(eom: EquationsOfMotion) -> list[str]:
     return [k for k in eom.compact if k in ("M", "b", "g", "nle") or k.split(":")[0] in ("J", "Jdot_u")]
 
 
-class NumericEoM:
+class NumericEoM(KinematicFunctions):
     """Numeric M(q), b(q, u), g(q), tau(q, u), T(q, u), U(q), frame Jacobians, forward dynamics and
     (free cut) joint reactions of one `EquationsOfMotion`.
 
