@@ -148,6 +148,5 @@ def project(system_or_f, q, u, params=None, tol: float | None = None) -> tuple[n
     u ← N_c u = u − M⁻¹ J_cᵀ (J_c M⁻¹ J_cᵀ)⁺ J_c u, the speeds with J_c u = 0 (every row: contacts, loops,
     no-slip) nearest to u in kinetic energy, min (u' − u)ᵀ M (u' − u)."""
     f = numeric(system_or_f, "project")
-    q = unit_quaternions(f.eom.system, q)
-    q = assemble(f, q, params=params, tol=tol) if f.closure_rows else q
+    q = assemble(f, q, params=params, tol=tol) if f.closure_rows else unit_quaternions(f.eom.system, q)
     return q, f.support_projector(q, params) @ np.asarray(u, dtype=float)

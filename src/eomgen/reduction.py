@@ -68,8 +68,8 @@ class Reduced:
         _, J, rows = self.f._held(q, params)
         J_d = J[:, self.dependent]
         if J_d.shape[0] < J_d.shape[1]:
-            raise ModelError(f"reduce: J_d is singular at this state: only rows {rows} can be violated here; "
-                             "choose other independent speeds or another state")
+            raise ModelError(f"reduce: J_d is singular at this state: only rows {rows} can be violated "
+                             "here; choose other independent speeds or another state")
         U, sigma, Vt = np.linalg.svd(J_d)
         if sigma[-1] <= RANK_RTOL * sigma[0]:
             weak_rows = [rows[k] for k in np.flatnonzero(np.abs(U[:, -1]) > 0.1)]
@@ -80,26 +80,32 @@ class Reduced:
                              "other independent speeds")
         return J_d, J[:, self.independent]
 
-    def R(self, q, params=None) -> np.ndarray:
-        """R = ∂u/∂u_i = [1; −J_d⁻¹ J_i] (nv × n_i)."""
+    def _R(self, q, params) -> tuple[np.ndarray, np.ndarray]:
+        """(R, J_d) at q: R = [1; −J_d⁻¹ J_i] (nv × n_i), J_d kept for s."""
         J_d, J_i = self._J_d(q, params)
         R = np.zeros((self.f.nv, len(self.independent)))
         R[self.independent] = np.eye(len(self.independent))
         R[self.dependent] = -np.linalg.solve(J_d, J_i)
-        return R
+        return R, J_d
 
-    def speeds(self, q, u, params=None) -> np.ndarray:
-        """The full speeds: u itself (nv values), or R u_i (n_i values)."""
+    def _state(self, q, u, params) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(R, the full speeds, s) at q: the speeds u itself (nv values) or R u_i (n_i values);
+        s = [0; −J_d⁻¹ J̇_c u]."""
+        R, J_d = self._R(q, params)
         u = np.asarray(u, dtype=float)
-        return self.R(q, params) @ u if u.shape == (len(self.independent),) else u
+        u = R @ u if u.shape == (len(self.independent),) else u
+        s = np.zeros(self.f.nv)
+        Jdot_u = self.f.contact_jacobian_dot_u(q, u, params)[self._rows(params)]
+        s[self.dependent] = -np.linalg.solve(J_d, Jdot_u)
+        return R, u, s
+
+    def R(self, q, params=None) -> np.ndarray:
+        """R = ∂u/∂u_i = [1; −J_d⁻¹ J_i] (nv × n_i)."""
+        return self._R(q, params)[0]
 
     def s(self, q, u, params=None) -> np.ndarray:
         """s = [0; −J_d⁻¹ J̇_c u]: u̇ = R u̇_i + s."""
-        u = self.speeds(q, u, params)
-        s = np.zeros(self.f.nv)
-        s[self.dependent] = -np.linalg.solve(self._J_d(q, params)[0],
-                                             self.f.contact_jacobian_dot_u(q, u, params)[self._rows(params)])
-        return s
+        return self._state(q, u, params)[2]
 
     def M(self, q, params=None) -> np.ndarray:
         """M_r = Rᵀ M R."""
@@ -108,8 +114,8 @@ class Reduced:
 
     def b(self, q, u, params=None) -> np.ndarray:
         """b_r = Rᵀ (b + M s)."""
-        u = self.speeds(q, u, params)
-        return self.R(q, params).T @ (self.f.b(q, u, params) + self.f.M(q, params) @ self.s(q, u, params))
+        R, u, s = self._state(q, u, params)
+        return R.T @ (self.f.b(q, u, params) + self.f.M(q, params) @ s)
 
     def g(self, q, params=None) -> np.ndarray:
         """g_r = Rᵀ g."""
@@ -117,15 +123,15 @@ class Reduced:
 
     def tau(self, q, u, tau_a=None, params=None) -> np.ndarray:
         """τ_r = Rᵀ (τ + Sᵀ τ_a) (τ: the loads)."""
-        u = self.speeds(q, u, params)
-        return self.R(q, params).T @ actuated(self.f.tau(q, u, params), tau_a, self.f.S)
+        R, u, _ = self._state(q, u, params)
+        return R.T @ actuated(self.f.tau(q, u, params), tau_a, self.f.S)
 
     def forward_dynamics(self, q, u, tau_a=None, params=None) -> np.ndarray:
         """u̇ = R u̇_i + s with M_r u̇_i = τ_r − b_r − g_r (the full nv speeds' rates)."""
-        u = self.speeds(q, u, params)
-        ud_i = np.linalg.solve(self.M(q, params), self.tau(q, u, tau_a, params) - self.b(q, u, params)
-                               - self.g(q, params))
-        return self.R(q, params) @ ud_i + self.s(q, u, params)
+        R, u, s = self._state(q, u, params)
+        M = self.f.M(q, params)
+        h = actuated(self.f.tau(q, u, params), tau_a, self.f.S) - self.f.nle(q, u, params) - M @ s
+        return R @ np.linalg.solve(R.T @ M @ R, R.T @ h) + s
 
     def symbolic(self, simplify: bool = False, params=None) -> ReducedForms:
         """M_r, b_r(q, u_i), g_r and R in closed form (every q; at most 3 dependent speeds, J_d⁻¹ =
@@ -149,7 +155,6 @@ class Reduced:
                 forms = [x.applyfunc(sp.simplify) for x in forms]
             self._forms[simplify] = ReducedForms(*forms, self.u_independent)
         return self._forms[simplify]
-
 
     def _ordered(self, independent: sp.Matrix, dependent: sp.Matrix) -> sp.Matrix:
         """The rows of the independent and of the dependent speeds, back in u's order."""

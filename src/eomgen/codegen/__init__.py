@@ -377,7 +377,7 @@ class NumericEoM(KinematicFunctions):
         bias = self.contact_jacobian_dot_u(q, u, params)
         if baumgarte is not None:
             alpha, beta = baumgarte
-            bias = bias + 2 * alpha * (self.contact_jacobian(q, params) @ np.asarray(u, float))
+            bias[active] += 2 * alpha * (J @ np.asarray(u, float))  # the rows that carry forces
             if self.closure_rows:
                 bias[self.closure_index] += beta ** 2 * self.closure_residual(q, params)
         u_dot, F_active = contact_dynamics(self.M(q, params), self._h(q, u, tau_a, params), J, bias[active],
