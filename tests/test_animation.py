@@ -1,6 +1,7 @@
 """eg.plot and eg.animate, headless: the figure's curves are the simulation's; the animation's first frame
 is drawn at the placements of the bodies and frames (2D in the plane of a planar motion, 3D otherwise);
 a GIF has the frames asked for, an MP4 is written; Kane's equations are animated from their system."""
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -17,8 +18,13 @@ from models import double_pendulum
 @pytest.fixture(scope="module")
 def swing():
     f = eg.codegen(eg.derive(double_pendulum(numeric=True)))
-    return f, eg.simulate(f, ([0.3, -0.5], [0.0, 1.0]), (0, 1), controller=lambda t, q, u: [0.2, -0.1 * u[1]],
-                          t_eval=np.linspace(0, 1, 41))
+    return f, eg.simulate(
+        f,
+        ([0.3, -0.5], [0.0, 1.0]),
+        (0, 1),
+        controller=lambda t, q, u: [0.2, -0.1 * u[1]],
+        t_eval=np.linspace(0, 1, 41),
+    )
 
 
 def test_plot(swing, tmp_path):
@@ -44,14 +50,19 @@ def test_gif_of_a_planar_motion(swing, tmp_path):
     assert not isinstance(ax, Axes3D) and (ax.get_xlabel(), ax.get_ylabel()) == ("x", "y")
     lower, tip = (f.placement(name, sim.q[0])[1] for name in ("lower", "tip"))
     segments = {tuple(np.round(np.ravel(line.get_xydata()), 12)) for line in ax.lines[:2]}
-    assert segments == {tuple(np.round([0, 0, *lower[:2]], 12)), tuple(np.round([*lower[:2], *tip[:2]], 12))}
+    assert segments == {
+        tuple(np.round([0, 0, *lower[:2]], 12)),
+        tuple(np.round([*lower[:2], *tip[:2]], 12)),
+    }
     with Image.open(tmp_path / "swing.gif") as gif:
         assert gif.n_frames == 8
 
 
 def spherical_pendulum() -> eg.System:
     system = eg.System(gravity=(0, 0, -9.81))
-    bob = system.add_body("bob", joint=eg.Spherical("s"), mass=1.0, com=(0, 0, -0.5), inertia=sp.eye(3) * 0.01)
+    bob = system.add_body(
+        "bob", joint=eg.Spherical("s"), mass=1.0, com=(0, 0, -0.5), inertia=sp.eye(3) * 0.01
+    )
     system.add_frame("tip", body=bob, placement=eg.Placement(translation=(0, 0, -0.6)))
     return system
 
@@ -66,8 +77,9 @@ def test_mp4_of_a_spatial_motion(tmp_path):
     anim = eg.animate(sim, system, path=tmp_path / "bob.mp4", frames=6)
     ax = anim._fig.axes[0]
     assert isinstance(ax, Axes3D)
-    np.testing.assert_allclose(np.array(ax.lines[0].get_data_3d()).T, [[0, 0, 0], f.placement("tip", q0)[1]],
-                               atol=1e-13)
+    np.testing.assert_allclose(
+        np.array(ax.lines[0].get_data_3d()).T, [[0, 0, 0], f.placement("tip", q0)[1]], atol=1e-13
+    )
     assert (tmp_path / "bob.mp4").stat().st_size > 1000
 
 
@@ -90,7 +102,9 @@ def test_plane():
     assert labels == ["x", "z"] and np.array_equal(B, np.eye(3)[:, [0, 2]])
     tilted = rng.normal(size=(20, 2)) @ np.array([[1, 0, 0], [0, 0.6, 0.8]])
     B, labels = plane(tilted)
-    assert labels == ["e1", "e2"] and np.allclose(B.T @ B, np.eye(2)) and np.allclose(B.T @ [0, 0.8, -0.6], 0)
+    assert (
+        labels == ["e1", "e2"] and np.allclose(B.T @ B, np.eye(2)) and np.allclose(B.T @ [0, 0.8, -0.6], 0)
+    )
     assert plane(rng.normal(size=(20, 3))) is None
 
 

@@ -118,5 +118,5 @@ def test_two_link_rhs_bound():
     fn = eg.codegen(eg.derive(two_link_arm(motors=True), method="lagrange"))
     x = np.array([-1.2, 0.4, 0.3, -0.7, 1.5, -2.0])
     np.testing.assert_array_equal(fn.bind(NUMBERS).rhs(0.0, x), fn.rhs(0.0, x, params=NUMBERS))
-    with pytest.raises(eg.ModelError, match=r"x: expected \[q, u\] of shape \(4,\) or \(N, 4\), got shape \(6,\)"):
+    with pytest.raises(eg.ModelError, match=r"x: expected \[q, u\] of shape \(4,\) or \(N, 4\), got"):
         eg.codegen(eg.derive(two_link_arm())).rhs(0.0, x)

@@ -1,10 +1,10 @@
 """f.rhs(t, x, tau): against Pinocchio's aba on a floating-base robot (q̇ of the quaternion by hand), the
 four-bar loop's free-body diagrams, sympy's KanesMethod with specified forces and torques, and the
 cart-pendulum's closed form (NumPy and C); tau as values or a function, batches, refused inputs."""
+
 import numpy as np
 import pinocchio as pin
 import pytest
-import sympy as sp
 import sympy.physics.mechanics as me
 
 import eomgen as eg
@@ -36,13 +36,17 @@ def test_free_flyer_equals_aba():
         x = np.r_[q[k], u[k]]
         rates = f.rhs(0.3, x, tau[k])
         expected = pin.aba(model, data, q[k], u[k], np.r_[np.zeros(6), tau[k]])
-        np.testing.assert_allclose(rates[system.nq:], expected, rtol=0, atol=1e-9 * max(1, np.abs(expected).max()))
+        np.testing.assert_allclose(
+            rates[system.nq :], expected, rtol=0, atol=1e-9 * max(1, np.abs(expected).max())
+        )
         R = pin.Quaternion(q[k][6], *q[k][3:6]).toRotationMatrix()
         np.testing.assert_allclose(rates[:3], R @ u[k][:3], atol=1e-13)
         np.testing.assert_allclose(rates[3:7], quaternion_rate(q[k][3:7], u[k][3:6]), atol=1e-13)
-        np.testing.assert_allclose(rates[7:system.nq], u[k][6:], atol=0)
+        np.testing.assert_allclose(rates[7 : system.nq], u[k][6:], atol=0)
+
         def controller(t, qq, uu, k=k):  # called with this t, q and u, else NaN (refused)
             return tau[k] if t == 0.3 and np.array_equal(np.r_[qq, uu], x) else np.nan
+
         np.testing.assert_array_equal(f.rhs(0.3, x, controller), rates)
 
 
@@ -79,19 +83,29 @@ def test_kane_equals_sympy_with_efforts():
     for _ in range(3):
         q, w, efforts = rng.uniform(-1.5, 1.5, 4), rng.uniform(-2, 2, 2), rng.uniform(-1, 1, 4)
         ux, uy = values["R"] * w[1] * np.cos(q[2]), values["R"] * w[1] * np.sin(q[2])
-        numbers = {K.m: values["m"], K.R: values["R"], K.g: values["g"],
-                   **dict(zip([K.F_x, K.F_y, K.tau_s, K.tau_d], efforts)),
-                   **dict(zip(qs, q)), **dict(zip(km.u, [*w, ux, uy]))}
+        numbers = {
+            K.m: values["m"],
+            K.R: values["R"],
+            K.g: values["g"],
+            **dict(zip([K.F_x, K.F_y, K.tau_s, K.tau_d], efforts)),
+            **dict(zip(qs, q)),
+            **dict(zip(km.u, [*w, ux, uy])),
+        }
         M = np.array(me.msubs(km.mass_matrix_full, numbers).evalf(30).tolist(), dtype=float)
         F = np.array(me.msubs(km.forcing_full, numbers).evalf(30).tolist(), dtype=float)[:, 0]
         expected = np.linalg.solve(M, F)[:6]  # q̇ (4), then the independent speeds' rates
         rates = f.rhs(0.0, np.r_[q, w], efforts, params=values)
         np.testing.assert_allclose(rates, expected, rtol=1e-11, atol=1e-11)
         power = efforts[:2] @ [ux, uy] + efforts[2] * w[0] + efforts[3] * w[1]
-        assert f.power(0.0, np.r_[q, w], efforts, params=values) == pytest.approx(power, rel=1e-12, abs=1e-12)
+        assert f.power(0.0, np.r_[q, w], efforts, params=values) == pytest.approx(
+            power, rel=1e-12, abs=1e-12
+        )
     batch = rng.uniform(-1, 1, (4, 6))
-    np.testing.assert_allclose(f.rhs(0.0, batch, efforts, params=values)[2],
-                               f.rhs(0.0, batch[2], efforts, params=values), rtol=1e-14)
+    np.testing.assert_allclose(
+        f.rhs(0.0, batch, efforts, params=values)[2],
+        f.rhs(0.0, batch[2], efforts, params=values),
+        rtol=1e-14,
+    )
 
 
 @pytest.mark.parametrize("backend", ["numpy", "c"])
@@ -108,11 +122,13 @@ def test_cart_pendulum_closed_form(backend, tmp_path, monkeypatch):
         phi, xd, phid = state[1:]
         M = np.array([[mc + mp, mp * l * np.cos(phi)], [mp * l * np.cos(phi), mp * l**2]])
         rhs = tau + [mp * l * np.sin(phi) * phid**2, -mp * g * l * np.sin(phi)]
-        np.testing.assert_allclose(f.rhs(0.0, state, tau), np.r_[xd, phid, np.linalg.solve(M, rhs)],
-                                   rtol=1e-13, atol=1e-13)
+        np.testing.assert_allclose(
+            f.rhs(0.0, state, tau), np.r_[xd, phid, np.linalg.solve(M, rhs)], rtol=1e-13, atol=1e-13
+        )
     np.testing.assert_allclose(f.rhs(0.0, x, tau)[4], f.rhs(0.0, x[4], tau), rtol=1e-14, atol=1e-14)
-    np.testing.assert_allclose(f.rhs(0.0, x, lambda t, q, u: np.tile(tau, (len(q), 1))), f.rhs(0.0, x, tau),
-                               rtol=1e-15)
+    np.testing.assert_allclose(
+        f.rhs(0.0, x, lambda t, q, u: np.tile(tau, (len(q), 1))), f.rhs(0.0, x, tau), rtol=1e-15
+    )
 
 
 def test_bad_inputs():
@@ -122,14 +138,20 @@ def test_bad_inputs():
     f = eg.codegen(eg.derive(system))
     with pytest.raises(eg.ModelError, match="tau: expected the actuator efforts .* got a mapping"):
         f.rhs(0.0, np.zeros(4), CART)
-    with pytest.raises(eg.ModelError, match=r"x: expected \[q, u\] of shape \(4,\) or \(N, 4\), got shape \(3,\)"):
+    with pytest.raises(
+        eg.ModelError, match=r"x: expected \[q, u\] of shape \(4,\) or \(N, 4\), got shape \(3,\)"
+    ):
         f.rhs(0.0, np.zeros(3), params=CART)
-    with pytest.raises(eg.ModelError, match="baumgarte: the system has no contacts, loops or rolling disks"):
+    with pytest.raises(
+        eg.ModelError, match="baumgarte: the system has no contacts, loops or rolling disks"
+    ):
         f.rhs(0.0, np.zeros(4), params=CART, baumgarte=(1, 1))
     with pytest.raises(eg.ModelError, match=r"tau_a: expected 2 finite values"):
         f.rhs(0.0, np.zeros(4), [1.0], params=CART)
     _, loop, _ = numeric()
-    with pytest.raises(eg.ModelError, match=r"x: expected \[q, u\] of shape \(6,\), got shape \(2, 6\) \(one state"):
+    with pytest.raises(
+        eg.ModelError, match=r"x: expected \[q, u\] of shape \(6,\), got shape \(2, 6\) \(one state"
+    ):
         loop.rhs(0.0, np.zeros((2, 6)))
     kane = eg.codegen(eg.kane(*K.rolling_disk()[:1], **K.rolling_disk()[1]))
     with pytest.raises(eg.ModelError, match=r"x: expected \[q, w_ind\] of shape \(6,\)"):

@@ -2,6 +2,7 @@
 efforts by `tau` (constant: a pendulum held where its torque balances gravity) or by `controller` (a PD
 law brings a cart-pendulum's cart to rest); every implicit method on a system without constraints;
 refused inputs."""
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -17,8 +18,9 @@ BOB = dict(m=0.8, L=0.5, g=9.81)
 def pendulum() -> eg.System:
     """A point-like bob at L below the pivot, gravity −y."""
     system = eg.System(gravity=(0, -BOB["g"], 0))
-    system.add_body("bob", joint=eg.Revolute("phi"), mass=BOB["m"], com=(0, -BOB["L"], 0),
-                    inertia=sp.eye(3) * 1e-3)
+    system.add_body(
+        "bob", joint=eg.Revolute("phi"), mass=BOB["m"], com=(0, -BOB["L"], 0), inertia=sp.eye(3) * 1e-3
+    )
     return system
 
 
@@ -28,8 +30,12 @@ def test_constant_torque_holds_the_pendulum(given, tmp_path, monkeypatch):
     zero (it does not move), and the efforts recorded are τ."""
     monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
     system = pendulum()
-    source = {"system": system, "equations": eg.derive(system), "numpy": eg.codegen(eg.derive(system)),
-              "c": eg.codegen(eg.derive(system), backend="c")}[given]
+    source = {
+        "system": system,
+        "equations": eg.derive(system),
+        "numpy": eg.codegen(eg.derive(system)),
+        "c": eg.codegen(eg.derive(system), backend="c"),
+    }[given]
     phi0 = 0.7
     torque = BOB["m"] * BOB["g"] * BOB["L"] * np.sin(phi0)
     sim = eg.simulate(source, ([phi0], [0.0]), (0, 2), tau=[torque])
@@ -45,8 +51,15 @@ def test_controller_brings_the_cart_to_rest(method):
     pendulum's swing damped through the cart; with the default stabilization, which has nothing to hold."""
     system, _ = cart_pendulum()
     f = eg.codegen(eg.derive(system)).bind(CART)
-    sim = eg.simulate(f, ([0.3, 0.4], [0, 0]), (0, 8), controller=lambda t, q, u: [-20 * q[0] - 8 * u[0], 0.0],
-                      method=method, rtol=1e-8, atol=1e-8)
+    sim = eg.simulate(
+        f,
+        ([0.3, 0.4], [0, 0]),
+        (0, 8),
+        controller=lambda t, q, u: [-20 * q[0] - 8 * u[0], 0.0],
+        method=method,
+        rtol=1e-8,
+        atol=1e-8,
+    )
     assert abs(sim.q[-1, 0]) < 0.05 and sim.work[-1] < 0 and np.abs(sim.balance).max() < 1e-5
 
 
@@ -72,7 +85,9 @@ def test_refused():
         eg.simulate(f, ([0.1], [0]), (0, 1), tau={"phi": 1.0})
     with pytest.raises(eg.ModelError, match=r"expected a System, EquationsOfMotion, KaneEquations"):
         eg.simulate("pendulum", ([0.1], [0]), (0, 1))
-    with pytest.raises(eg.ModelError, match=r"x0 must be \(q0, u0\) with 2 values in all, got shape \(3,\)"):
+    with pytest.raises(
+        eg.ModelError, match=r"x0 must be \(q0, u0\) with 2 values in all, got shape \(3,\)"
+    ):
         eg.simulate(f, ([0.1], [0], [0]), (0, 1))
     kane = eg.codegen(eg.kane(*K.rolling_disk()[:1], **K.rolling_disk()[1]))
     with pytest.raises(eg.ModelError, match=r"x0 must be \(q0, w0\) with 6 values"):

@@ -25,7 +25,7 @@ from .verify import verify
 
 __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed", "FlexibleLink", "FreeFlyer", "Helical",
            "Kinematics", "ModelError", "Placement", "Planar", "Prismatic", "Revolute", "Solution", "Spherical", "Step",
-           "System", "Translation", "Universal", "animate", "assemble", "codegen", "derive", "from_dh", "from_mjcf",
-           "from_urdf", "integrate", "kane", "plot", "project", "quiet", "random_states", "reduce", "robots",
-           "difference", "simplified", "simulate", "solution",
+           "System", "Translation", "Universal", "assemble", "codegen", "derive", "from_dh", "from_mjcf",
+           "from_urdf", "integrate", "kane", "project", "quiet", "random_states", "reduce", "robots",
+           "difference", "simplified", "simulate", "plot", "animate", "solution",
            "tradeoff", "verify", "write_c", "write_module"]

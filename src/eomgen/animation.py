@@ -5,16 +5,15 @@ frames (a body with neither: to its centre of mass), with a dot at its centre of
 at its origin); the named frames are crosses. A motion whose points all stay in one plane (judged over the
 whole trajectory) is drawn in 2D in that plane (a world plane where it is one), any other in 3D. The
 positions at the animation's frames are interpolated linearly in time between the simulation's states."""
+
 from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
-from matplotlib import animation
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 
 from .codegen import NumericEoM, codegen
 from .codegen.kane import NumericKane
@@ -23,6 +22,9 @@ from .methods import derive
 from .model import System
 from .model.loads import Point
 from .simulate import Simulation, functions
+
+if TYPE_CHECKING:
+    from matplotlib.animation import FuncAnimation
 
 PLANAR = 1e-9  # out-of-plane extent, relative to the motion's size, below which it is drawn in 2D
 WRITERS = {".gif": "pillow", ".mp4": "ffmpeg"}
@@ -37,20 +39,30 @@ def placements(source) -> NumericEoM:
     return functions(source, "animate")
 
 
-def stick_figure(f: NumericEoM, q, params) -> tuple[np.ndarray, list[tuple[int, int]], list[int], list[int]]:
+def stick_figure(
+    f: NumericEoM, q, params
+) -> tuple[np.ndarray, list[tuple[int, int]], list[int], list[int]]:
     """(points (N, K, 3), lines as pairs of point indices, dots, crosses) at the states q (N, nq): the body
     origins (`placement`), their centres of mass and the named frames' origins."""
     system, kin = f.eom.system, f.eom.kinematics
     bodies, frames = system.bodies, list(system.frames.values())
     f._function("centres", lambda: sp.Matrix.hstack(*(kin.position(Point(b, b.com)) for b in bodies)))
     origins = [f.placement(b.name, q, params)[1] for b in bodies]
-    points = np.stack([*origins, *np.moveaxis(f.call("centres", q, params=params), -1, 0),
-                       *(f.placement(x.name, q, params)[1] for x in frames)], axis=1)
+    points = np.stack(
+        [
+            *origins,
+            *np.moveaxis(f.call("centres", q, params=params), -1, 0),
+            *(f.placement(x.name, q, params)[1] for x in frames),
+        ],
+        axis=1,
+    )
     index = {b.name: k for k, b in enumerate(bodies)}
     lines = [(index[b.parent.name], k) for k, b in enumerate(bodies) if b.parent is not None]
     lines += [(index[x.body.name], 2 * len(bodies) + k) for k, x in enumerate(frames) if x.body is not None]
     ends = {i for i, _ in lines}
-    lines += [(k, len(bodies) + k) for k, b in enumerate(bodies) if k not in ends and b.mass.is_zero is not True]
+    lines += [
+        (k, len(bodies) + k) for k, b in enumerate(bodies) if k not in ends and b.mass.is_zero is not True
+    ]
     dots = [len(bodies) + k if b.mass.is_zero is not True else k for k, b in enumerate(bodies)]
     return points, lines, dots, list(range(2 * len(bodies), len(points[0])))
 
@@ -71,24 +83,36 @@ def plane(points: np.ndarray) -> tuple[np.ndarray, list[str]] | None:
     return Vt[:2].T, ["e1", "e2"]
 
 
-def animate(simulation: Simulation, system_or_functions=None, path=None, frames: int | None = None,
-            fps: float = 25.0, size: tuple[float, float] = (6.0, 6.0)) -> animation.FuncAnimation:
+def animate(
+    simulation: Simulation,
+    system_or_functions=None,
+    path=None,
+    frames: int | None = None,
+    fps: float = 25.0,
+    size: tuple[float, float] = (6.0, 6.0),
+) -> FuncAnimation:
     """The motion of `simulation` as a stick figure (see the module doc), drawn from the placements of
     `system_or_functions` (default: the simulation's functions): `frames` images evenly spaced in time
     (default real time at `fps`), saved to `path` when given (".gif": Pillow, ".mp4": ffmpeg). Returns the
     `FuncAnimation`; in a notebook show it with `IPython.display.HTML(anim.to_jshtml())`."""
+    from matplotlib.animation import writers  # matplotlib only when drawing
+
     if not isinstance(simulation, Simulation):
         raise ModelError(f"animate: expected a Simulation (eg.simulate), got {type(simulation).__name__}")
     f = placements(simulation.functions if system_or_functions is None else system_or_functions)
     if f.nq != simulation.q.shape[1]:
-        raise ModelError(f"animate: the functions have {f.nq} coordinates, the simulation {simulation.q.shape[1]}")
+        raise ModelError(
+            f"animate: the functions have {f.nq} coordinates, the simulation {simulation.q.shape[1]}"
+        )
     if not fps > 0:
         raise ModelError(f"animate: fps must be positive, got {fps!r}")
     suffix = None if path is None else Path(path).suffix.lower()
     if path is not None and suffix not in WRITERS:
         raise ModelError(f"animate: path must end in {list(WRITERS)}, got {str(path)!r}")
-    if suffix == ".mp4" and not animation.writers.is_available("ffmpeg"):
-        raise ModelError(f"animate: {str(path)!r}: writing MP4 needs ffmpeg on the PATH; write a .gif instead")
+    if suffix == ".mp4" and not writers.is_available("ffmpeg"):
+        raise ModelError(
+            f"animate: {str(path)!r}: writing MP4 needs ffmpeg on the PATH; write a .gif instead"
+        )
     t = simulation.t
     frames = int(round(abs(t[-1] - t[0]) * fps)) + 1 if frames is None else frames
     if not isinstance(frames, (int, np.integer)) or frames < 1:
@@ -97,8 +121,13 @@ def animate(simulation: Simulation, system_or_functions=None, path=None, frames:
     points, lines, dots, crosses = stick_figure(f, simulation.q, params)
     times = np.linspace(t[0], t[-1], frames)
     order = np.argsort(t, kind="stable")
-    at = np.stack([np.stack([np.interp(times, t[order], points[order, k, i]) for i in range(3)], -1)
-                   for k in range(points.shape[1])], 1)
+    at = np.stack(
+        [
+            np.stack([np.interp(times, t[order], points[order, k, i]) for i in range(3)], -1)
+            for k in range(points.shape[1])
+        ],
+        1,
+    )
     anim, draw = _drawing(at, times, lines, dots, crosses, plane(points), size, fps)
     if path is not None:
         anim.save(str(path), writer=WRITERS[suffix], fps=fps)
@@ -114,9 +143,13 @@ def _known(f: NumericEoM, simulation: Simulation) -> dict:
     return {k: v for k, v in values.items() if str(k) in f.parameters.names}
 
 
-def _drawing(at, times, lines, dots, crosses, basis, size, fps) -> tuple[animation.FuncAnimation, Callable]:
+def _drawing(at, times, lines, dots, crosses, basis, size, fps) -> tuple[FuncAnimation, Callable]:
     """The animation of `at` (frames, K, 3) world points, projected on `basis` if planar, at its first
     frame, and the function drawing frame n."""
+    from matplotlib.animation import FuncAnimation
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=size, dpi=80)  # no layout engine: the frames are drawn fast, all alike
     FigureCanvasAgg(fig)
     if basis is not None:
@@ -148,7 +181,7 @@ def _drawing(at, times, lines, dots, crosses, basis, size, fps) -> tuple[animati
         return [*drawn, body, frame, clock]
 
     draw(0)
-    return animation.FuncAnimation(fig, draw, frames=len(times), interval=1000 / fps, blit=False), draw
+    return FuncAnimation(fig, draw, frames=len(times), interval=1000 / fps, blit=False), draw
 
 
 def _set(artist, P: np.ndarray) -> None:

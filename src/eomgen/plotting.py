@@ -1,19 +1,22 @@
 """`eg.plot`: a simulation's coordinates, speeds, actuator efforts and energy balance over time in one
 matplotlib figure (no pyplot: it works headless, and a notebook shows the figure it returns)."""
+
 from __future__ import annotations
 
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
+from typing import TYPE_CHECKING
 
 from .codegen.kane import NumericKane
 from .errors import ModelError
 from .simulate import Simulation
 
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
 LEGEND = 12  # most curves a legend names
 
 
 def labels(f) -> tuple[list[str], list[str], list[str]]:
-    """The names of the coordinates, of the speeds in the state (Kane's: w_ind) and of the actuated joints."""
+    """The names of the coordinates, of the speeds in the state (Kane's: w_ind), of the actuated joints."""
     if isinstance(f, NumericKane):
         system, speeds = f.kane.system, f.kane.independent
     else:
@@ -25,10 +28,15 @@ def plot(simulation: Simulation, path=None, size: tuple[float, float] = (8.0, 2.
     """Rows over t: q; u; τ_a (when efforts were applied); E − E(t0), W and (right axis) the balance
     E − E(t0) − W, zero but for the integration error. Each row `size` (width, height) inches; saved to
     `path` when given (any format matplotlib writes: .png, .pdf, .svg)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg  # matplotlib only when drawing
+    from matplotlib.figure import Figure
+
     if not isinstance(simulation, Simulation):
         raise ModelError(f"plot: expected a Simulation (eg.simulate), got {type(simulation).__name__}")
     s, (q_names, u_names, tau_names) = simulation, labels(simulation.functions)
-    rows = [("q", s.q, q_names), ("u", s.u, u_names)] + ([("τ_a", s.tau, tau_names)] if s.tau is not None else [])
+    rows = [("q", s.q, q_names), ("u", s.u, u_names)] + (
+        [("τ_a", s.tau, tau_names)] if s.tau is not None else []
+    )
     fig = Figure(figsize=(size[0], size[1] * (len(rows) + 1)), layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(len(rows) + 1, 1, sharex=True)

@@ -177,7 +177,8 @@ def _report(f, t, y, params, source) -> Simulation:
     q, u = x[:, :f.nq], x[:, f.nq:n]
     tau = None
     if source is not None:
-        tau = np.array([np.broadcast_to(efforts(source, tk, qk, uk), (len(f.S),)) for tk, qk, uk in zip(t, q, u)])
+        tau = np.array([np.broadcast_to(efforts(source, tk, qk, uk), (len(f.S),))
+                        for tk, qk, uk in zip(t, q, u)])
     closure = velocity = None
     if isinstance(f, NumericKane):
         if f.kane.dependent_coordinates:
@@ -185,5 +186,5 @@ def _report(f, t, y, params, source) -> Simulation:
     elif f.constraint_rows:
         closure = np.linalg.norm(f.closure_residual(q, params), axis=-1) if f.closure_rows else None
         velocity = np.linalg.norm(np.einsum("nij,nj->ni", f.contact_jacobian(q, params), u), axis=-1)
-    return Simulation(t, q, u, x[:, n:] if x.shape[1] > n else None, tau, f.energy(x, params), y[:, -1], closure,
-                      velocity, f, params)
+    currents = x[:, n:] if x.shape[1] > n else None
+    return Simulation(t, q, u, currents, tau, f.energy(x, params), y[:, -1], closure, velocity, f, params)

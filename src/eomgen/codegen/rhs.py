@@ -10,6 +10,7 @@ in it, so that E(t) − E(t0) = W(t) along a motion:
 is in U; a motor's torque N k i − N² f q̇ is in τ_nc, so that with the circuit Ẇ is the sources' power
 U i less the losses R i² + f (N q̇)². τ_a (`tau`): None, values (one per actuated joint) or a function
 (t, q, u) → values."""
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -38,8 +39,10 @@ def nonconservative(eom: EquationsOfMotion) -> sp.Matrix:
 def efforts(tau, t, q, u):
     """τ_a at (t, q, u): None, the values given, or tau(t, q, u) for a function."""
     if isinstance(tau, Mapping):
-        raise ModelError("tau: expected the actuator efforts (values, or a function (t, q, u)), got a "
-                         "mapping; parameters go by name in params=")
+        raise ModelError(
+            "tau: expected the actuator efforts (values, or a function (t, q, u)), got a "
+            "mapping; parameters go by name in params="
+        )
     return tau(t, q, u) if callable(tau) else tau
 
 
@@ -52,8 +55,10 @@ def split(x, sizes: list[int], names: str, batch: bool) -> list[np.ndarray]:
     """x = [q, u, ...] cut into parts of `sizes` (x of shape (n,), or (N, n) if `batch`)."""
     x, n = np.asarray(x, dtype=float), sum(sizes)
     if x.shape[-1:] != (n,) or x.ndim > 1 + batch:
-        raise ModelError(f"x: expected [{names}] of shape ({n},){f' or (N, {n})' if batch else ''}, got shape "
-                         f"{x.shape}{'' if batch else ' (one state per call)'}")
+        raise ModelError(
+            f"x: expected [{names}] of shape ({n},){f' or (N, {n})' if batch else ''}, got shape "
+            f"{x.shape}{'' if batch else ' (one state per call)'}"
+        )
     return np.split(x, np.cumsum(sizes)[:-1], axis=-1)
 
 
@@ -70,8 +75,9 @@ class StateFunctions:
         """(q, u, i, params) of x = [q, u, i] (i empty without motors), the currents added to params."""
         system = self.eom.system
         batch = not (system.motors or self.constraint_rows)
-        q, u, i = split(x, [self.nq, self.nv, len(system.motors)], "q, u, i" if system.motors else "q, u",
-                        batch)
+        q, u, i = split(
+            x, [self.nq, self.nv, len(system.motors)], "q, u, i" if system.motors else "q, u", batch
+        )
         if system.motors:
             params = self.parameters.with_state(params, {m.current: c for m, c in zip(system.motors, i)})
         return q, u, i, params
@@ -79,9 +85,19 @@ class StateFunctions:
     def _circuit(self, q, u, params) -> np.ndarray:
         """Per motor [U − k N q̇, R, L]."""
         motors = self.eom.system.motors
-        self._function("motor", lambda: sp.Matrix([
-            [m.voltage - m.torque_constant * m.gear_ratio * self.eom.u[m.body.index], m.resistance,
-             m.inductance] for m in motors]))
+        self._function(
+            "motor",
+            lambda: sp.Matrix(
+                [
+                    [
+                        m.voltage - m.torque_constant * m.gear_ratio * self.eom.u[m.body.index],
+                        m.resistance,
+                        m.inductance,
+                    ]
+                    for m in motors
+                ]
+            ),
+        )
         return self.call("motor", q, u, params=params)
 
     def rhs(self, t, x, tau=None, params=None, baumgarte: tuple[float, float] | None = None) -> np.ndarray:
