@@ -1,11 +1,11 @@
 """The state equations ẋ = f(t, x) of the numeric functions, the energy E and the power Ẇ of what is not
-in it, so that E(t) − E(t0) = W(t) along a motion:
+in it, so that E(t) − E(t0) = W(t) along a motion::
 
-    x = [q, u]:      q̇ = q̇(q, u) (`System.qdot`),  M u̇ = τ + Sᵀ τ_a − b − g, or with contacts, loops and
-                     rolling disks the u̇ of `constrained_dynamics` (their forces do no work);
-    x = [q, u, i]:   with DC motors, also L di/dt = U − R i − k N q̇ per motor;
-    E = T + U (+ ½ Σ L i²),   Ẇ = uᵀ (Sᵀ τ_a + τ_nc) (+ Σ i (U − R i − k N q̇)).
+    x = [q, u]:      q̇ = q̇(q, u) (`System.qdot`),  M u̇ = τ + Sᵀ τ_a − b − g
+    x = [q, u, i]:   and L di/dt = U − R i − k N q̇ per DC motor
+    E = T + U (+ ½ Σ L i²),   Ẇ = uᵀ (Sᵀ τ_a + τ_nc) (+ Σ i (U − R i − k N q̇))
 
+With contacts, loops and rolling disks u̇ is that of `constrained_dynamics` (their forces do no work).
 τ_nc are the loads' generalized forces but the springs' and the bending's (`conservative`), whose energy
 is in U; a motor's torque N k i − N² f q̇ is in τ_nc, so that with the circuit Ẇ is the sources' power
 U i less the losses R i² + f (N q̇)². τ_a (`tau`): None, values (one per actuated joint) or a function
