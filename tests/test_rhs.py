@@ -70,13 +70,15 @@ def test_loop_equals_free_body_diagrams(theta, rate, torque):
     np.testing.assert_allclose(with_gains, rates, rtol=1e-9, atol=1e-9)
 
 
-def test_kane_equals_sympy_with_efforts():
+@pytest.mark.parametrize("backend", ["numpy", "c"])
+def test_kane_equals_sympy_with_efforts(backend, tmp_path, monkeypatch):
     """The rolling disk (Kane, two no-slip constraints) with all four joints actuated: rhs with
     τ_a = (F_x, F_y, τ_s, τ_d) = sympy's KanesMethod with those forces on the centre, the steer torque on
     the heading and the drive torque between heading and disk: [q̇; ẇ_ind] from its full mass matrix and
     forcing, at random states; and the power Fᵀ v + τ_s θ̇ + τ_d φ̇."""
+    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
     system, args = K.rolling_disk()
-    f = eg.codegen(eg.kane(system, **args))
+    f = eg.codegen(eg.kane(system, **args), backend=backend)
     km, qs, _ = K.rolling_disk_sympy(torques=True, forces=True)
     values = {"m": 1.3, "R": 0.3, "g": 9.81}
     rng = np.random.default_rng(7)

@@ -33,7 +33,7 @@ PROJECTING = {"RK23": RK23, "RK45": RK45, "DOP853": DOP853}  # explicit: (t, x, 
 @dataclass
 class Simulation:
     """The motion at the times t (N,): q (N, nq), u (N, nv) (Kane's: w_ind), the motor currents (N, motors;
-    None without motors) and the actuator efforts τ_a applied (N, actuated; None without tau or controller);
+    None without motors) and the actuator efforts τ_a at these states (N, actuated; None without them);
     the energy E = T + U (+ ½ Σ L i²) and the work W of the actuators and non-conservative loads since t0,
     so that `balance` = E − E(t0) − W vanishes but for the integration error; the drifts ‖r(q)‖ of the
     loops, rolling disks (Kane's: holonomic constraints) and ‖J_c u‖ (None where there are none); the
