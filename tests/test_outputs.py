@@ -133,7 +133,8 @@ def test_every_output_path_agrees(tmp_path, cache):
 
     def outputs(f):
         return [np.concatenate([f.M(q[k], P).ravel(), f.b(q[k], u[k], P), f.g(q[k], P), f.tau(q[k], u[k], P),
-                                f.jacobian("tip", q[k], P).ravel(), placed(*f.placement("tip", q[k], P)), f.com(q[k], P), f.com_jacobian(q[k], P).ravel(),
+                                f.jacobian("tip", q[k], P).ravel(), placed(*f.placement("tip", q[k], P)),
+                                f.com(q[k], P), f.com_jacobian(q[k], P).ravel(),
                                 f.centroidal_momentum_matrix(q[k], P).ravel()]) for k in range(len(q))]
 
     expected = np.array([np.concatenate([x.ravel() for x in by_hand(q[k], u[k], 0.0)[:4]])
@@ -145,7 +146,8 @@ def test_every_output_path_agrees(tmp_path, cache):
         np.testing.assert_allclose(np.asarray(got)[:, 22:43], kinematics, atol=1e-14, err_msg=label)
         np.testing.assert_allclose(got, plain, rtol=1e-13, atol=1e-13, err_msg=label)
     h_G = m.centroidal_momentum(q, u, P)  # A_G u, batched
-    np.testing.assert_allclose(h_G, [fn.centroidal_momentum(q[k], u[k], P) for k in range(len(q))], atol=1e-14)
+    expected = [fn.centroidal_momentum(q[k], u[k], P) for k in range(len(q))]
+    np.testing.assert_allclose(h_G, expected, atol=1e-14)
 
 
 def test_parameters_by_name_only(tmp_path):

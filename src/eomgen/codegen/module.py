@@ -118,13 +118,13 @@ def outputs(eom: EquationsOfMotion) -> list[Output]:
     except ModelError:  # no moving mass, or a flexible link: no centre of mass to write
         pass
     if rows:
-        found += [Output("J_c", "contact_jacobian", "J_c: the stacked rows of every contact, loop and rolling "
-                         "disk, world-aligned axes", lambda: kin.constraint_jacobian()[0], rows),
+        found += [Output("J_c", "contact_jacobian", "J_c: the stacked rows of every contact, loop and "
+                         "rolling disk, world-aligned axes", lambda: kin.constraint_jacobian()[0], rows),
                   Output("Jdot_c_u", "contact_jacobian_dot_u", "J̇_c u, stacked like J_c's rows",
                          lambda: kin.constraint_jacobian()[1], rows, "q, u")]
     if closure:
-        found.append(Output("closure", "closure_residual", "the loops' and rolling disks' position residuals, "
-                            "zero when closed", kin.closure_residual, closure))
+        found.append(Output("closure", "closure_residual", "the loops' and rolling disks' position "
+                            "residuals, zero when closed", kin.closure_residual, closure))
     return found
 
 
@@ -193,9 +193,9 @@ def write_module(eom: EquationsOfMotion, path, frames: list[str] | None = None,
     (the loads), forward_dynamics, jacobian, jacobian_dot_u and placement (for the given frames; default:
     every moving body and named frame), com, com_jacobian, centroidal_momentum_matrix and
     centroidal_momentum (when the system has moving mass and no flexible link) of `eom`, with PARAMETERS,
-    their ASSUMPTIONS, ACTUATED and the selection matrix S; with contacts, loops or rolling disks also contact_jacobian (J_c),
-    contact_jacobian_dot_u (J̇_c u) and closure_residual (loops, disks), their rows named in
-    CONSTRAINT_ROWS and CLOSURE_ROWS."""
+    their ASSUMPTIONS, ACTUATED and the selection matrix S; with contacts, loops or rolling disks also
+    contact_jacobian (J_c), contact_jacobian_dot_u (J̇_c u) and closure_residual (loops, disks), their rows
+    named in CONSTRAINT_ROWS and CLOSURE_ROWS."""
     equations(eom, "write_module")
     path = Path(path)
     title = title or getattr(eom.system, "name", None) or path.stem
