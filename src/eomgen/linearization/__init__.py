@@ -62,10 +62,12 @@ class Linearization:
         if unknown:
             raise ModelError(f"Linearization: unknown inputs {unknown}; the inputs are {list(self.inputs)}")
         k = [self.inputs.index(x) for x in inputs]
-        part = (lambda X, r, c: X.extract(r, c)) if isinstance(self.A, sp.MatrixBase) else (
-            lambda X, r, c: X[np.ix_(r, c)])
+        if isinstance(self.A, sp.MatrixBase):
+            part = lambda X, r, c=(0,): X.extract(r, list(c))  # noqa: E731
+        else:
+            part = lambda X, r, c=None: X[np.ix_(r, c)] if c is not None else X[r]  # noqa: E731
         return Linearization(part(self.A, i, i), part(self.B, i, k), tuple(self.states[j] for j in i),
-                             tuple(inputs), part(self.x0, i, [0]), part(self.r0, k, [0]), part(self.xdot0, i, [0]))
+                             tuple(inputs), part(self.x0, i), part(self.r0, k), part(self.xdot0, i))
 
     def eigenvalues(self) -> np.ndarray:
         """The eigenvalues of A, sorted (numpy.sort_complex); numbers only."""

@@ -107,7 +107,8 @@ class Pieces:
         tangent = None
         arguments = {"q": point.tangents["q"], "u": _flat(u), "w": _flat(w), "p": point.tangents.get("p")}
         for family, d in arguments.items():
-            if d is None or family in ("u", "w") and family not in self.exprs[name][1] or not d.shape[1]:
+            if d is None or not d.shape[1] or family in ("u", "w") and (family not in self.exprs[name][1]
+                                                                      or not self.seeds[family]):
                 continue
             J = evaluate(name, family, point, uv, wv)
             t = (d @ J.T).reshape((point.n,) + value.shape)
