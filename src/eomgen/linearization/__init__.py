@@ -5,6 +5,7 @@ speed (`chart`: q itself where q̇_k = u_j, else δ of q = q0 ⊕ δ), without t
 fix; the speeds are the independent ones. The inputs r are actuated efforts τ_a and parameters. A and B
 are the derivatives of the generated pieces of the equations (`pieces`) carried through the numeric
 pipeline by the chain rule (`dual`), or the same at a symbolic point (closed forms)."""
+
 from __future__ import annotations
 
 import weakref
@@ -66,20 +67,37 @@ class Linearization:
             part = lambda X, r, c=(0,): X.extract(r, list(c))  # noqa: E731
         else:
             part = lambda X, r, c=None: X[np.ix_(r, c)] if c is not None else X[r]  # noqa: E731
-        return Linearization(part(self.A, i, i), part(self.B, i, k), tuple(self.states[j] for j in i),
-                             tuple(inputs), part(self.x0, i), part(self.r0, k), part(self.xdot0, i))
+        return Linearization(
+            part(self.A, i, i),
+            part(self.B, i, k),
+            tuple(self.states[j] for j in i),
+            tuple(inputs),
+            part(self.x0, i),
+            part(self.r0, k),
+            part(self.xdot0, i),
+        )
 
     def eigenvalues(self) -> np.ndarray:
         """The eigenvalues of A, sorted (numpy.sort_complex); numbers only."""
         try:
             A = np.array(self.A.tolist() if isinstance(self.A, sp.MatrixBase) else self.A, dtype=float)
         except TypeError:
-            raise ModelError("Linearization: A has symbols: substitute numbers for its eigenvalues") from None
+            raise ModelError(
+                "Linearization: A has symbols: substitute numbers for its eigenvalues"
+            ) from None
         return np.sort_complex(np.linalg.eigvals(A))
 
 
-def linearize(equations, op_point, inputs=None, *, params: Mapping | None = None, independent=None,
-              symbolic: bool = False, simplify: bool = False) -> Linearization:
+def linearize(
+    equations,
+    op_point,
+    inputs=None,
+    *,
+    params: Mapping | None = None,
+    independent=None,
+    symbolic: bool = False,
+    simplify: bool = False,
+) -> Linearization:
     """A, B of ẋ = A x + B r about `op_point` for an `EquationsOfMotion` (with contacts, loops or rolling
     disks: in the `independent` speeds, named as for `eg.reduce`, and the coordinates the closures leave
     free) or `KaneEquations` (x = [q_ind, w_ind], as sympy's Linearizer).
@@ -98,46 +116,60 @@ def linearize(equations, op_point, inputs=None, *, params: Mapping | None = None
     op = operating_point(system, case.speeds, model.every, currents, op_point, algebra)
     given = parameter_values(model.parameters, params, symbolic)
     if any(i in given for i in currents):
-        raise ModelError(f"params: {[str(i) for i in currents if i in given]} are motor currents, part of the "
-                         "state: give them in op_point")
+        raise ModelError(
+            f"params: {[str(i) for i in currents if i in given]} are motor currents, part of the "
+            "state: give them in op_point"
+        )
     values = {**given, **dict(zip(currents, op.currents))}
     point = Point(op.q, values, [*currents, *chosen.parameters], {}, 0, algebra)
     standin, at = _numbers(point, model) if symbolic else (point, {})
     dependent = case.dependent(standin)
     coordinates = [j for j in range(len(model.every)) if j not in dependent]
-    sizes = np.cumsum([0, len(coordinates), len(case.speeds), len(currents), len(chosen.efforts),
-                       len(chosen.parameters)])
+    sizes = np.cumsum(
+        [0, len(coordinates), len(case.speeds), len(currents), len(chosen.efforts), len(chosen.parameters)]
+    )
     n = point.n = int(sizes[-1])
     if symbolic and sizes[3] > SYMBOLIC_STATES:
-        raise ModelError(f"linearize: {sizes[3]} states: symbolic=True is for at most {SYMBOLIC_STATES}; "
-                         "linearize numerically (symbolic=False)")
+        raise ModelError(
+            f"linearize: {sizes[3]} states: symbolic=True is for at most {SYMBOLIC_STATES}; "
+            "linearize numerically (symbolic=False)"
+        )
     E = algebra.eye(n)
     dq = algebra.zeros(n, len(model.every))
-    dq[:, coordinates] = E[:, :sizes[1]]
-    point.tangents = {"q": dq, "p": np.concatenate([E[:, sizes[2]:sizes[3]], E[:, sizes[4]:]], axis=1)}
+    dq[:, coordinates] = E[:, : sizes[1]]
+    point.tangents = {"q": dq, "p": np.concatenate([E[:, sizes[2] : sizes[3]], E[:, sizes[4] :]], axis=1)}
     if dependent:
         f, F = case.closure(point)
-        _check(f.value[:, 0], 0, at, "q0 does not satisfy the holonomic constraints (assemble it: eg.assemble, "
-               "or assemble of Kane's generated functions); their residuals are")
+        _check(
+            f.value[:, 0],
+            0,
+            at,
+            "q0 does not satisfy the holonomic constraints (assemble it: eg.assemble, "
+            "or assemble of Kane's generated functions); their residuals are",
+        )
         dq[:, dependent] = -solve(algebra, Dual(F[:, dependent]), f, "∂f/∂q_dep").tangent[:, :, 0]
-    speeds = Dual(_column(op.speeds, algebra), E[:, sizes[1]:sizes[2], None])
+    speeds = Dual(_column(op.speeds, algebra), E[:, sizes[1] : sizes[2], None])
     d_efforts = algebra.zeros(n, len(op.efforts), 1)
     for k, i in enumerate(chosen.efforts):
         d_efforts[sizes[3] + k, i, 0] = E[0, 0]
     u, w, rates = case.dynamics(point, speeds, Dual(_column(op.efforts, algebra), d_efforts), algebra)
     if op.full is not None:
         _check(w.value[:, 0] - op.full, 0, at, "the speeds differ from those the constraints allow by")
-    qdot = u + Dual(algebra.zeros(*u.value.shape), (dq @ model.chart.drift(u.value[:, 0], algebra).T)[:, :, None])
+    qdot = u + Dual(
+        algebra.zeros(*u.value.shape), (dq @ model.chart.drift(u.value[:, 0], algebra).T)[:, :, None]
+    )
     parts = [qdot[coordinates], rates]
     if currents:
         c = model.pieces.dual("motor", point, u)
-        parts.append(c[:, 0:1] - c[:, 1:2] * Dual(_column(op.currents, algebra), E[:, sizes[2]:sizes[3], None]))
+        parts.append(
+            c[:, 0:1] - c[:, 1:2] * Dual(_column(op.currents, algebra), E[:, sizes[2] : sizes[3], None])
+        )
     xdot = vstack(parts, n, algebra)
     J = xdot.tangent[:, :, 0].T
     chart, q = model.chart, list(system.q)
     x0 = [op.q[q.index(chart.coordinate[j])] if j in chart.coordinate else 0 for j in coordinates]
     r0 = [*op.efforts[chosen.efforts], *(values.get(p, p) for p in chosen.parameters)]
-    out = [J[:, :sizes[3]], J[:, sizes[3]:], [*x0, *op.speeds, *op.currents], r0, xdot.value[:, 0]]
+    out = [J[:, : sizes[3]], J[:, sizes[3] :], [*x0, *op.speeds, *op.currents], r0, xdot.value[:, 0]]
     if symbolic:
         out = [sp.Matrix(np.reshape(np.array(x, dtype=object), (len(x), -1)).tolist()) for x in out]
         out = [x.applyfunc(sp.simplify) if simplify else x for x in out]
@@ -150,10 +182,14 @@ def linearize(equations, op_point, inputs=None, *, params: Mapping | None = None
 def _model(equations):
     """The linearization's pieces of these equations (generated once, kept while the equations live)."""
     if not isinstance(equations, (EquationsOfMotion, KaneEquations)):
-        raise ModelError(f"linearize: expected EquationsOfMotion or KaneEquations, got {type(equations).__name__} "
-                         "(derive them first: eg.derive(system) or eg.kane(system, ...))")
+        raise ModelError(
+            f"linearize: expected EquationsOfMotion or KaneEquations, got {type(equations).__name__} "
+            "(derive them first: eg.derive(system) or eg.kane(system, ...))"
+        )
     if equations not in _models:
-        _models[equations] = (KaneModel if isinstance(equations, KaneEquations) else EquationsModel)(equations)
+        _models[equations] = (KaneModel if isinstance(equations, KaneEquations) else EquationsModel)(
+            equations
+        )
     return _models[equations]
 
 

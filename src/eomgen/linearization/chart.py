@@ -8,6 +8,7 @@ about δ = 0 and the joint's speeds u0
 
     δ̇ = u − ½ ad(u0) δ,   ad(v, ω) = [[ω]×, [v]×; 0, [ω]×] (SE3),   ad(ω) = [ω]× (SO3),
     ad(v_x, v_y, ω) = [[0, −ω, v_y], [ω, 0, −v_x], [0, 0, 0]] (SE2)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -48,9 +49,14 @@ class Chart:
     def __init__(self, system: System) -> None:
         u = list(system.u)
         self.coordinate = {u.index(rate): q for q, rate in zip(system.q, system.qdot) if rate in u}
-        self.names = [str(self.coordinate[j]) if j in self.coordinate else f"delta_{u[j]}" for j in range(len(u))]
-        self.groups = [(b.joint.group, b.index, b.joint.dof) for b in system.bodies
-                       if b.index is not None and b.joint.group in GROUPS]
+        self.names = [
+            str(self.coordinate[j]) if j in self.coordinate else f"delta_{u[j]}" for j in range(len(u))
+        ]
+        self.groups = [
+            (b.joint.group, b.index, b.joint.dof)
+            for b in system.bodies
+            if b.index is not None and b.joint.group in GROUPS
+        ]
 
     def direction(self, coordinate: sp.Symbol) -> int | None:
         """The direction j of a coordinate with q̇_k = u_j (None for a quaternion's or planar joint's)."""
@@ -60,5 +66,5 @@ class Chart:
         """∂δ̇/∂δ at the speeds u0: the blocks −½ ad(u0) of the joints moving in a group, 0 elsewhere."""
         D = algebra.zeros(len(self.names), len(self.names))
         for group, i, dof in self.groups:
-            D[i:i + dof, i:i + dof] = -adjoint(group, list(u0[i:i + dof]), algebra) / 2
+            D[i : i + dof, i : i + dof] = -adjoint(group, list(u0[i : i + dof]), algebra) / 2
         return D

@@ -9,6 +9,7 @@ so that a pipeline written once for the values (products, transposes, rows, solv
 of its Jacobian. The `Algebra` does the solves: NumPy's LU with pivoting (numbers), or elimination on
 pivots proven nonzero, the entries in lowest terms (`methods.kane.solve_proven` with sympy's cancel:
 sympy expressions at a symbolic operating point)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -48,8 +49,10 @@ class Algebra:
         try:
             X = solve_proven(sp.Matrix(A), sp.Matrix(columns), what, sp.cancel)
         except ModelError:
-            raise ModelError(f"linearize: no closed form at this operating point: {what} has no pivot "
-                             "proven nonzero; linearize numerically (symbolic=False)") from None
+            raise ModelError(
+                f"linearize: no closed form at this operating point: {what} has no pivot "
+                "proven nonzero; linearize numerically (symbolic=False)"
+            ) from None
         X = np.array(X.tolist(), dtype=object).reshape(columns.shape)
         return np.moveaxis(X.reshape((B.shape[-2],) + B.shape[:-2] + B.shape[-1:]), 0, -2)
 
@@ -67,7 +70,9 @@ class Dual:
 
     def __getitem__(self, index) -> Dual:
         index = index if isinstance(index, tuple) else (index,)
-        return Dual(self.value[index], None if self.tangent is None else self.tangent[(slice(None), *index)])
+        return Dual(
+            self.value[index], None if self.tangent is None else self.tangent[(slice(None), *index)]
+        )
 
     def __neg__(self) -> Dual:
         return Dual(-self.value, None if self.tangent is None else -self.tangent)
@@ -106,8 +111,12 @@ def vstack(parts: list[Dual], n: int, algebra: Algebra) -> Dual:
     value = np.concatenate([p.value for p in parts], axis=0)
     if all(p.tangent is None for p in parts):
         return Dual(value)
-    return Dual(value, np.concatenate([algebra.zeros(n, *p.value.shape) if p.tangent is None else p.tangent
-                                       for p in parts], axis=1))
+    return Dual(
+        value,
+        np.concatenate(
+            [algebra.zeros(n, *p.value.shape) if p.tangent is None else p.tangent for p in parts], axis=1
+        ),
+    )
 
 
 def placed(parts: list[tuple[list[int], Dual]], n: int, algebra: Algebra) -> Dual:

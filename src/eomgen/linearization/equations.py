@@ -6,6 +6,7 @@ loops and rolling disks the dynamics in the independent speeds u_i (`reduction`)
 written once for the values (`dual.Dual`) so that its derivatives follow by the chain rule; the
 coordinates q0 ⊕ δ of the directions that the closures r(q) = 0 fix are solved from them,
 δ_dep = −(∂r/∂δ_dep)⁻¹ (∂r/∂δ_ind δ_ind + ∂r/∂p dp)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -26,7 +27,9 @@ class EquationsModel:
 
     def __init__(self, eom: EquationsOfMotion) -> None:
         if "M" not in eom.compact or not ("nle" in eom.compact or {"b", "g"} <= set(eom.compact)):
-            raise ModelError(f"linearize: the equations have only {list(eom.quantities)}: derive M, b and g")
+            raise ModelError(
+                f"linearize: the equations have only {list(eom.quantities)}: derive M, b and g"
+            )
         system = self.system = eom.system
         nle = eom.compact["nle"] if "nle" in eom.compact else eom.compact["b"] + eom.compact["g"]
         exprs = {"M": (eom.compact["M"], ()), "nle": (nle, {"u"}), "tau": (eom.tau_compact, {"u"})}
@@ -38,7 +41,9 @@ class EquationsModel:
                 exprs["closure"] = (eom.kinematics.closure_residual(), ())
             self.f = codegen(eom)  # which rows carry forces (`Reduced`)
         self.parameters = Parameters(system.parameters)
-        self.pieces = Pieces(eom.subexpressions, system, {**exprs, **motor_pieces(system)}, self.parameters, [])
+        self.pieces = Pieces(
+            eom.subexpressions, system, {**exprs, **motor_pieces(system)}, self.parameters, []
+        )
         self.chart = Chart(system)
         self.every = list(system.u)
         self._reduced: dict[tuple, Reduced] = {}
@@ -48,13 +53,17 @@ class EquationsModel:
         named."""
         if self.f is None:
             if independent is not None:
-                raise ModelError("linearize: independent: the system has no contacts, loops or rolling disks; "
-                                 "every speed is independent (leave it out)")
+                raise ModelError(
+                    "linearize: independent: the system has no contacts, loops or rolling disks; "
+                    "every speed is independent (leave it out)"
+                )
             return EquationsCase(self, None)
         if independent is None:
-            raise ModelError(f"linearize: independent: name the independent speeds (or coordinates) of the "
-                             f"constrained system, one per speed the constraints {self.f.constraint_rows} leave "
-                             "free (as for eg.reduce)")
+            raise ModelError(
+                "linearize: independent: name the independent speeds (or coordinates) of the "
+                f"constrained system, one per speed the constraints {self.f.constraint_rows} leave "
+                "free (as for eg.reduce)"
+            )
         key = tuple(map(str, [independent] if isinstance(independent, str) else independent))
         if key not in self._reduced:
             self._reduced[key] = Reduced(self.f, independent)
@@ -84,8 +93,10 @@ class EquationsCase:
         F = self.pieces.evaluate("closure", "q", point)[self.closures]
         _, R, pivots = qr(F[:, candidates], pivoting=True)
         if k and abs(R[k - 1, k - 1]) <= 1e-10 * max(1.0, abs(R[0, 0])):
-            raise ModelError("linearize: the closures do not determine the dependent coordinates at this "
-                             "state (∂r/∂q of the dependent speeds' coordinates is singular)")
+            raise ModelError(
+                "linearize: the closures do not determine the dependent coordinates at this "
+                "state (∂r/∂q of the dependent speeds' coordinates is singular)"
+            )
         return sorted(candidates[i] for i in pivots[:k])
 
     def closure(self, point: Point) -> tuple[Dual, np.ndarray]:
@@ -93,7 +104,9 @@ class EquationsCase:
         F = self.pieces.evaluate("closure", "q", point)[self.closures]
         return self.pieces.dual("closure", point)[self.closures], F
 
-    def dynamics(self, point: Point, speeds: Dual, efforts: Dual, algebra: Algebra) -> tuple[Dual, Dual, Dual]:
+    def dynamics(
+        self, point: Point, speeds: Dual, efforts: Dual, algebra: Algebra
+    ) -> tuple[Dual, Dual, Dual]:
         """(u, u, u̇_i): the speeds (twice: they are the equations' speeds) and the independent ones' rates."""
         pieces, nv = self.pieces, len(self.model.every)
         M = pieces.dual("M", point)
@@ -108,7 +121,9 @@ class EquationsCase:
         u = placed([(ind, speeds), (dep, -solve(algebra, J_d, J_i @ speeds, what))], n, algebra)
         c = pieces.dual("Jdot_c_u", point, u)[self.active]
         R = placed([(ind, Dual(algebra.eye(len(ind)))), (dep, -solve(algebra, J_d, J_i, what))], n, algebra)
-        s = placed([(ind, Dual(algebra.zeros(len(ind), 1))), (dep, -solve(algebra, J_d, c, what))], n, algebra)
+        s = placed(
+            [(ind, Dual(algebra.zeros(len(ind), 1))), (dep, -solve(algebra, J_d, c, what))], n, algebra
+        )
         h = pieces.dual("tau", point, u) - pieces.dual("nle", point, u) + tau_a
         return u, u, solve(algebra, R.T @ M @ R, R.T @ (h - M @ s), "the reduced mass matrix Rᵀ M R")
 
@@ -120,5 +135,17 @@ def motor_pieces(system) -> dict:
     import sympy as sp
 
     u = system.u
-    return {"motor": (sp.Matrix([[(m.voltage - m.torque_constant * m.gear_ratio * u[m.body.index]) / m.inductance,
-                                  m.resistance / m.inductance] for m in system.motors]), {"u"})}
+    return {
+        "motor": (
+            sp.Matrix(
+                [
+                    [
+                        (m.voltage - m.torque_constant * m.gear_ratio * u[m.body.index]) / m.inductance,
+                        m.resistance / m.inductance,
+                    ]
+                    for m in system.motors
+                ]
+            ),
+            {"u"},
+        )
+    }

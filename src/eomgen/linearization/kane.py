@@ -7,6 +7,7 @@ values (`dual.Dual`),
 
 its derivatives by the chain rule; the dependent coordinates from the holonomic constraints f(q) = 0,
 δ_dep = −(∂f/∂δ_dep)⁻¹ (∂f/∂δ_ind δ_ind + ∂f/∂p dp)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -27,30 +28,40 @@ class KaneModel:
         self.kane, system = kane, kane.system
         self.system = system
         c = kane.compact
-        exprs = {"M": (c["M"], ()), "h": (c["h"][:, 0], {"u"}), "Y": (c["Y"], ()), "rates": (c["rates"], {"u", "w"})}
+        exprs = {
+            "M": (c["M"], ()),
+            "h": (c["h"][:, 0], {"u"}),
+            "Y": (c["Y"], ()),
+            "rates": (c["rates"], {"u", "w"}),
+        }
         if kane.dependent:
             exprs["C"] = (c["C"], ())
         if kane.dependent_coordinates:
             exprs["f"] = (c["holonomic"][:, 0], ())
         self.parameters = Parameters(kane.parameters)
         w = [] if kane.speeds_are_qdot else list(kane.speeds)
-        self.pieces = Pieces(kane.subexpressions, system, {**exprs, **motor_pieces(system)}, self.parameters, w)
+        self.pieces = Pieces(
+            kane.subexpressions, system, {**exprs, **motor_pieces(system)}, self.parameters, w
+        )
         self.chart = Chart(system)
-        self.every = list(kane.speeds)
+        self.every, self.speeds = list(kane.speeds), list(kane.independent)
         self._dep, self._ind = kane._indices()
         self.directions = [self.chart.direction(x) for x in kane.dependent_coordinates]
         if None in self.directions:
             odd = [str(x) for x, j in zip(kane.dependent_coordinates, self.directions) if j is None]
-            raise ModelError(f"linearize: the dependent coordinates {odd} are no joint speed's coordinate (a "
-                             "quaternion's or a planar joint's position): the tangent coordinates have no "
-                             "direction of their own; linearize a parametrization in angles (Euler)")
+            raise ModelError(
+                f"linearize: the dependent coordinates {odd} are no joint speed's coordinate (a "
+                "quaternion's or a planar joint's position): the tangent coordinates have no "
+                "direction of their own; linearize a parametrization in angles (Euler)"
+            )
 
     def case(self, independent) -> KaneModel:
         """The equations themselves: Kane's equations fix their independent speeds."""
         if independent is not None:
-            raise ModelError("linearize: independent: Kane's equations fix their independent speeds "
-                             f"{self.kane.independent} (eg.kane(..., independent=...)); leave it out")
-        self.speeds = list(self.kane.independent)
+            raise ModelError(
+                "linearize: independent: Kane's equations fix their independent speeds "
+                f"{self.kane.independent} (eg.kane(..., independent=...)); leave it out"
+            )
         return self
 
     def dependent(self, point: Point) -> list[int]:
@@ -61,7 +72,9 @@ class KaneModel:
         """The holonomic constraints' residuals f(q) and ∂f/∂δ."""
         return self.pieces.dual("f", point), self.pieces.evaluate("f", "q", point)
 
-    def dynamics(self, point: Point, speeds: Dual, efforts: Dual, algebra: Algebra) -> tuple[Dual, Dual, Dual]:
+    def dynamics(
+        self, point: Point, speeds: Dual, efforts: Dual, algebra: Algebra
+    ) -> tuple[Dual, Dual, Dual]:
         """(u, w, ẇ_ind): the joint speeds, Kane's speeds and the rates of the independent ones."""
         n, p, nd = len(self.every), len(self._ind), point.n
         ind, dep, pieces = self._ind, self._dep, self.pieces
@@ -70,11 +83,14 @@ class KaneModel:
         if dep:
             C = pieces.dual("C", point)
             C_dep, by_C = C[:, dep], "C_dep (the constraints' columns of the dependent speeds)"
-            w = placed([(ind, speeds), (dep, -solve(algebra, C_dep, C[:, ind] @ speeds + C[:, n:], by_C))], nd,
-                       algebra)
+            w = placed(
+                [(ind, speeds), (dep, -solve(algebra, C_dep, C[:, ind] @ speeds + C[:, n:], by_C))],
+                nd,
+                algebra,
+            )
             T = placed([(ind, T), (dep, -solve(algebra, C_dep, C[:, ind], by_C))], nd, algebra)
         Y = pieces.dual("Y", point)
-        Y, K, k0, what = Y[:, :n], Y[:, n:2 * n], Y[:, 2 * n:], "the speed map Y"
+        Y, K, k0, what = Y[:, :n], Y[:, n : 2 * n], Y[:, 2 * n :], "the speed map Y"
         u = -solve(algebra, Y, K @ w + k0, what)
         rates = pieces.dual("rates", point, u, w)
         if dep:

@@ -1,5 +1,6 @@
 """The arguments of `eg.linearize` read and checked where they enter: the inputs r (actuated efforts and
 parameters by name) and the operating point (q0, speeds, efforts τ_a0, motor currents i0)."""
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -21,7 +22,9 @@ def effort_names(system: System) -> list[str]:
     for b in system.bodies:
         if b.index is not None and b.joint.actuated:
             k = b.joint.efforts
-            names += [f"tau_{b.joint.name}"] if k == 1 else [f"tau_{u}" for u in system.u[b.index:b.index + k]]
+            names += (
+                [f"tau_{b.joint.name}"] if k == 1 else [f"tau_{u}" for u in system.u[b.index : b.index + k]]
+            )
     return names
 
 
@@ -51,12 +54,16 @@ def inputs(system: System, parameters: list[sp.Symbol], currents: list, chosen) 
         if name in efforts:
             out.efforts.append(efforts.index(name))
         elif name in {str(i) for i in currents}:
-            raise ModelError(f"linearize: inputs: {name!r} is a motor current, a state; its voltage is an input")
+            raise ModelError(
+                f"linearize: inputs: {name!r} is a motor current, a state; its voltage is an input"
+            )
         elif name in by_name:
             out.parameters.append(by_name[name])
         else:
-            raise ModelError(f"linearize: inputs: unknown input {x!r}; the inputs are the actuated efforts "
-                             f"{efforts} and the parameters {sorted(set(by_name) - set(map(str, currents)))}")
+            raise ModelError(
+                f"linearize: inputs: unknown input {x!r}; the inputs are the actuated efforts "
+                f"{efforts} and the parameters {sorted(set(by_name) - set(map(str, currents)))}"
+            )
         out.names.append(name)
     return out
 
@@ -73,8 +80,9 @@ class OperatingPoint:
     full: np.ndarray | None = None
 
 
-def operating_point(system: System, speeds: list, every: list, currents: list, op_point,
-                    algebra: Algebra) -> OperatingPoint:
+def operating_point(
+    system: System, speeds: list, every: list, currents: list, op_point, algebra: Algebra
+) -> OperatingPoint:
     """(q0, speeds[, τ_a0[, i0]]) arrays, the independent `speeds` or `every` speed, or a mapping
     {name: value} (every coordinate; the independent speeds, efforts and currents default to 0); numbers,
     or sympy values when symbolic. Quaternions made unit."""
@@ -86,23 +94,39 @@ def operating_point(system: System, speeds: list, every: list, currents: list, o
         unknown = sorted(set(given) - {x for part in names for x in part})
         missing = [x for x in names[0] if x not in given]
         if unknown or missing:
-            raise ModelError(f"linearize: op_point: {'unknown names ' + str(unknown) if unknown else ''}"
-                             f"{'; ' if unknown and missing else ''}"
-                             f"{'coordinates missing: ' + str(missing) if missing else ''}; give the coordinates "
-                             f"{names[0]}, the speeds {names[1]}, efforts {names[2]}, currents {names[3]}")
+            raise ModelError(
+                f"linearize: op_point: {'unknown names ' + str(unknown) if unknown else ''}"
+                f"{'; ' if unknown and missing else ''}"
+                f"{'coordinates missing: ' + str(missing) if missing else ''}; give the coordinates "
+                f"{names[0]}, the speeds {names[1]}, efforts {names[2]}, currents {names[3]}"
+            )
         parts = [[given.get(x, 0) for x in part] for part in names]
     elif isinstance(op_point, (tuple, list)) and 2 <= len(op_point) <= 4:
-        parts = list(op_point) + [np.zeros(k) for k in n[len(op_point):]]
+        parts = list(op_point) + [np.zeros(k) for k in n[len(op_point) :]]
         if np.size(parts[1]) == len(every) != len(speeds):
             full = _values(parts[1], len(every), "the speeds", algebra)
-            return replace(operating_point(system, speeds, every, currents,
-                                           [parts[0], full[[every.index(s) for s in speeds]], *parts[2:]],
-                                           algebra), full=full)
+            return replace(
+                operating_point(
+                    system,
+                    speeds,
+                    every,
+                    currents,
+                    [parts[0], full[[every.index(s) for s in speeds]], *parts[2:]],
+                    algebra,
+                ),
+                full=full,
+            )
     else:
-        raise ModelError("linearize: op_point: expected (q0, speeds[, tau_a0[, currents]]) or a mapping "
-                         f"{{name: value}}, got {type(op_point).__name__}")
-    what = ["q0 (the coordinates)", f"the speeds {[str(s) for s in speeds]} (or all {len(every)})",
-            f"tau_a0 (the efforts {efforts})", f"the motor currents {[str(i) for i in currents]}"]
+        raise ModelError(
+            "linearize: op_point: expected (q0, speeds[, tau_a0[, currents]]) or a mapping "
+            f"{{name: value}}, got {type(op_point).__name__}"
+        )
+    what = [
+        "q0 (the coordinates)",
+        f"the speeds {[str(s) for s in speeds]} (or all {len(every)})",
+        f"tau_a0 (the efforts {efforts})",
+        f"the motor currents {[str(i) for i in currents]}",
+    ]
     values = [_values(x, k, w, algebra) for x, k, w in zip(parts, n, what)]
     if not algebra.symbolic:
         values[0] = unit_quaternions(system, values[0])

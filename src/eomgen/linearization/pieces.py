@@ -7,6 +7,7 @@ and the chosen parameters p (`derivatives.jacobian`: the chain rule through the 
 each value and Jacobian a generated NumPy function of (q, u, w, p), written on first use; or, at a
 symbolic point, the intermediates substituted one after another (closed forms, refused beyond
 `SYMBOLIC_OPS` operations)."""
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -53,8 +54,10 @@ class Pieces:
         self.nq, self.n = len(system.q), len(system.u)
         self.seeds = {"q": tangent_seeds(system), "u": speed_seeds(system), "w": [{x: 1} for x in w]}
         self.inputs = {"q": list(system.q), "u": list(system.u), "w": list(w)}
-        self.writer = FunctionWriter(sub, {"q": self.inputs["q"], "u": self.inputs["u"], "ud": self.inputs["w"],
-                                           "p": parameters.symbols})
+        self.writer = FunctionWriter(
+            sub,
+            {"q": self.inputs["q"], "u": self.inputs["u"], "ud": self.inputs["w"], "p": parameters.symbols},
+        )
         self.functions: dict[tuple, Generated] = {}
 
     def _matrix(self, name: str, family: str | None, chosen: list) -> sp.Matrix:
@@ -65,8 +68,10 @@ class Pieces:
         column = expr.reshape(expr.rows * expr.cols, 1)
         if family != "p":
             return jacobian(self.sub, column, self.seeds[family], ("linearize", family))
-        return sp.Matrix.hstack(*(jacobian(self.sub, column, [{p: 1}], ("linearize", str(p))) for p in chosen),
-                                sp.zeros(column.rows, 0))
+        return sp.Matrix.hstack(
+            *(jacobian(self.sub, column, [{p: 1}], ("linearize", str(p))) for p in chosen),
+            sp.zeros(column.rows, 0),
+        )
 
     def evaluate(self, name: str, family: str | None, point: Point, u=None, w=None) -> np.ndarray:
         """The piece (family None) or its Jacobian along a family at the point (u, w: the speeds' values)."""
@@ -76,7 +81,9 @@ class Pieces:
         key = (name, family, tuple(point.chosen) if family == "p" else ())
         if key not in self.functions:
             source, shape, ops = self.writer.source("f", self._matrix(name, family, point.chosen))
-            self.functions[key] = Generated(source, shape, ops, compile_function(source, f"linearize {name}"))
+            self.functions[key] = Generated(
+                source, shape, ops, compile_function(source, f"linearize {name}")
+            )
         f = self.functions[key]
         p = self.parameters.vector(point.values, f.params_used)
         return _call(f.function, f.shape, self.nq, self.n, point.q, u, w, p)
@@ -86,16 +93,24 @@ class Pieces:
         matrix = self._matrix(name, family, point.chosen)
         known = point.known
         known.update(point.values)
-        known.update({s: v for arg, x in (("q", point.q), ("u", u), ("w", w)) if x is not None
-                      for s, v in zip(self.inputs[arg], x)})
+        known.update(
+            {
+                s: v
+                for arg, x in (("q", point.q), ("u", u), ("w", w))
+                if x is not None
+                for s, v in zip(self.inputs[arg], x)
+            }
+        )
         for s in self.sub.dependencies(list(matrix)):
             if s not in known:
                 known[s] = self.sub.definitions[s].xreplace(known)
                 point.ops += sp.count_ops(known[s])
                 if point.ops > SYMBOLIC_OPS:
-                    raise ModelError(f"linearize: the closed forms at this operating point exceed {SYMBOLIC_OPS} "
-                                     f"operations (at {name}): the system is too large for symbolic=True; "
-                                     "linearize numerically (symbolic=False)")
+                    raise ModelError(
+                        f"linearize: the closed forms at this operating point exceed {SYMBOLIC_OPS} "
+                        f"operations (at {name}): the system is too large for symbolic=True; "
+                        "linearize numerically (symbolic=False)"
+                    )
         return np.array(matrix.xreplace(known).tolist(), dtype=object).reshape(matrix.shape)
 
     def dual(self, name: str, point: Point, u: Dual | None = None, w: Dual | None = None) -> Dual:
@@ -107,8 +122,12 @@ class Pieces:
         tangent = None
         arguments = {"q": point.tangents["q"], "u": _flat(u), "w": _flat(w), "p": point.tangents.get("p")}
         for family, d in arguments.items():
-            if d is None or not d.shape[1] or family in ("u", "w") and (family not in self.exprs[name][1]
-                                                                      or not self.seeds[family]):
+            if (
+                d is None
+                or not d.shape[1]
+                or family in ("u", "w")
+                and (family not in self.exprs[name][1] or not self.seeds[family])
+            ):
                 continue
             J = evaluate(name, family, point, uv, wv)
             t = (d @ J.T).reshape((point.n,) + value.shape)
@@ -127,6 +146,8 @@ def values(parameters: Parameters, params: Mapping | None, symbolic: bool) -> di
     for key, value in (params or {}).items():
         k = parameters.index.get(key, parameters.index.get(str(key)))
         if k is None:
-            raise ModelError(f"params: unknown parameter {key!r}; the parameters are {list(parameters.names)}")
+            raise ModelError(
+                f"params: unknown parameter {key!r}; the parameters are {list(parameters.names)}"
+            )
         out[parameters.symbols[k]] = sp.sympify(value) if symbolic else value
     return out
