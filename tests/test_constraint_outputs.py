@@ -156,7 +156,7 @@ def test_row_names_cannot_inject_code(tmp_path):
     assert "injected" not in names and "SystemExit" not in names
     code = re.sub(r"/\*.*?\*/", "", header, flags=re.S)  # what the compiler sees
     assert "injected" not in code and header.count("*/") == header.count("/*")
-    assert header.count("int injected; /?") == 3 * 3 + 2  # 3 rows × 3 functions, the frame's J and J̇u
+    assert header.count("int injected; /?") == 3 * 3 + 3  # 3 rows × 3 functions, the frame's J, J̇u, X
 
 
 def test_equations_of_a_system_changed_since_are_refused(tmp_path):

@@ -105,25 +105,49 @@ def c_driver(directory, name: str, header: str, keys: list[tuple[str, int]], q, 
     return np.array([[float(x) for x in line.split()] for line in out.strip().split("\n")])
 
 
+def placement_and_com(q):
+    """The tip's [R | p] (rotation about z by φ, position (x + l sin φ, −l cos φ, 0)), the centre of mass
+    c = (m_c (x, 0, 0) + m_p (x + l sin φ, −l cos φ, 0)) / (m_c + m_p) and its Jacobian ∂c/∂q, by hand."""
+    m_c, m_p, l = P["m_c"], P["m_p"], P["l"]
+    x, phi = q
+    s, c = np.sin(phi), np.cos(phi)
+    X = np.array([[c, -s, 0, x + l * s], [s, c, 0, -l * c], [0, 0, 1, 0]])
+    com = np.array([x + m_p * l * s / (m_c + m_p), -m_p * l * c / (m_c + m_p), 0])
+    J_com = np.array([[1, m_p * l * c / (m_c + m_p)], [0, m_p * l * s / (m_c + m_p)], [0, 0]])
+    return np.concatenate([X.ravel(), com, J_com.ravel()])
+
+
+def placed(R, p):
+    return np.column_stack([R, p]).ravel()
+
+
 def test_every_output_path_agrees(tmp_path, cache):
     eom = eg.derive(spring_cart_pendulum())
     q, u, _ = states(6)
     fn, fc = eg.codegen(eom), eg.codegen(eom, backend="c")
     m = load(eg.write_module(eom, tmp_path / "cp_eom.py"))
     _, h = eg.write_c(eom, tmp_path / "c", name="cp", frames=["tip"])
-    keys = [("M", 4), ("b", 2), ("g", 2), ("tau", 2), ("J_0", 12)]
+    keys = [("M", 4), ("b", 2), ("g", 2), ("tau", 2), ("J_0", 12), ("X_0", 12), ("com", 3), ("J_com", 6),
+            ("A_G", 12)]
     plain = c_driver(tmp_path / "c", "cp", h.read_text(), keys, q, u)
 
     def outputs(f):
         return [np.concatenate([f.M(q[k], P).ravel(), f.b(q[k], u[k], P), f.g(q[k], P), f.tau(q[k], u[k], P),
-                                f.jacobian("tip", q[k], P).ravel()]) for k in range(len(q))]
+                                f.jacobian("tip", q[k], P).ravel(), placed(*f.placement("tip", q[k], P)),
+                                f.com(q[k], P), f.com_jacobian(q[k], P).ravel(),
+                                f.centroidal_momentum_matrix(q[k], P).ravel()]) for k in range(len(q))]
 
     expected = np.array([np.concatenate([x.ravel() for x in by_hand(q[k], u[k], 0.0)[:4]])
                          for k in range(len(q))])
+    kinematics = np.array([placement_and_com(q[k]) for k in range(len(q))])
     for label, got in [("numpy", outputs(fn)), ("module", outputs(m)), ("c extension", outputs(fc)),
                        ("write_c", plain)]:
         np.testing.assert_allclose(np.asarray(got)[:, :10], expected, rtol=1e-12, atol=1e-12, err_msg=label)
+        np.testing.assert_allclose(np.asarray(got)[:, 22:43], kinematics, atol=1e-14, err_msg=label)
         np.testing.assert_allclose(got, plain, rtol=1e-13, atol=1e-13, err_msg=label)
+    h_G = m.centroidal_momentum(q, u, P)  # A_G u, batched
+    expected = [fn.centroidal_momentum(q[k], u[k], P) for k in range(len(q))]
+    np.testing.assert_allclose(h_G, expected, atol=1e-14)
 
 
 def test_parameters_by_name_only(tmp_path):

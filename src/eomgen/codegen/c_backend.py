@@ -14,7 +14,8 @@ from ..errors import ModelError
 from ..progress import progress
 from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer
 from .extension import build, compiler, python_headers
-from .module import constraint_outputs
+from .kinematic_functions import placement
+from .module import outputs
 from .numpy_backend import C, C_TRIG
 from .parameters import Parameters
 
@@ -96,8 +97,9 @@ def comment(text: str) -> str:
 def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
             frames: list[str] | None = None) -> tuple[Path, Path]:
     """Plain C (no Python) for a controller: <name>.c and <name>.h with <name>_<quantity> for M, b, g,
-    nle, T, U (those derived) and tau, per frame <name>_J_<k>, <name>_Jdot_u_<k> (default: the
-    frames of derive(frames=...), else all), and with contacts, loops or rolling disks <name>_J_c,
+    nle, T, U (those derived) and tau, per frame <name>_J_<k>, <name>_Jdot_u_<k>, <name>_X_<k> (default:
+    the frames of derive(frames=...), else all), <name>_com, <name>_J_com, <name>_A_G (moving mass, no
+    flexible link) and with contacts, loops or rolling disks <name>_J_c,
     <name>_Jdot_c_u and (loops, disks) <name>_closure, each f(q, u, ud, p, out). The header documents
     the inputs index by index (p[k]: the parameters sorted by name), and per function its output
     (row-major, zeroed by the caller; the constraint rows by name) and the entries of q, u, ud, p it
@@ -114,9 +116,10 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
         parts += [(f"J_{k}", eom.kinematics.jacobian(frame), False,
                    f"6 x NV Jacobian [J_P; J_R] of frame {frame}, world-aligned axes", []),
                   (f"Jdot_u_{k}", eom.kinematics.jacobian_dot_u(frame), False,
-                   f"J̇ u of frame {frame} ([linear; angular])", [])]
-    parts += [(key, expr(), False, what, names)
-              for key, _, what, expr, names in constraint_outputs(eom)]
+                   f"J̇ u of frame {frame} ([linear; angular])", []),
+                  (f"X_{k}", placement(eom.kinematics, frame), False,
+                   f"placement [R | p] (3 x 4) of frame {frame} in the world", [])]
+    parts += [(out.key, out.build(), False, out.what, out.rows) for out in outputs(eom)]
     body, decls = ["#include <math.h>", f'#include "{name}.h"', ""], []
     for key, expr, symmetric, what, names in progress(parts, "writing C", unit="function"):
         source, (rows, cols), _ = c.source(f"{name}_{key}", expr, symmetric)

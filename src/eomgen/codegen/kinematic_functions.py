@@ -8,13 +8,17 @@ import sympy as sp
 from .. import centroidal
 
 
+def placement(kin, frame: str) -> sp.Matrix:
+    """[R | p] (3 × 4) of a frame or body in the world."""
+    return sp.Matrix.hstack(*kin.frame_placement(frame))
+
+
 class KinematicFunctions:
     """Mixed into `NumericEoM`: every function takes one state or N states along axis 0."""
 
     def placement(self, frame: str, q, params=None) -> tuple[np.ndarray, np.ndarray]:
         """(R, p) of a frame or body in the world (Pinocchio's `oMf` rotation and translation)."""
-        kin = self.eom.kinematics
-        self._function(key := f"X:{frame}", lambda: sp.Matrix.hstack(*kin.frame_placement(frame)))
+        self._function(key := f"X:{frame}", lambda: placement(self.eom.kinematics, frame))
         X = self.call(key, q, params=params)
         return X[..., :3], X[..., 3]
 

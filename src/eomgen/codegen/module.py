@@ -6,11 +6,14 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from .. import __version__
+from .. import __version__, centroidal
 from ..eom import EquationsOfMotion
+from ..errors import ModelError
 from . import QUANTITIES, NumericEoM, equations, quantities
+from .kinematic_functions import placement
 from .parameters import RUNTIME as PARAMETER_RUNTIME
 from .runtime import RUNTIME
 
@@ -45,6 +48,20 @@ def jacobian_dot_u(frame, q, u, params=None):
     return _call(f, (6, 1), NQ, NV, q, u, p=_p(params, used))[..., 0]
 '''
 
+_PLACEMENT_API = '''
+def placement(frame, q, params=None):
+    """(R, p): the rotation and position of a frame in the world."""
+    f, used = _PLACEMENTS[_frame(frame)]
+    X = _call(f, (3, 4), NQ, NV, q, p=_p(params, used))
+    return X[..., :3], X[..., 3]
+'''
+
+_CENTROIDAL_MOMENTUM = '''
+def centroidal_momentum(q, u, params=None):
+    """h_G = A_G u: linear momentum and angular momentum about the centre of mass."""
+    return numpy.einsum("...ij,...j->...i", centroidal_momentum_matrix(q, params), numpy.asarray(u, float))
+'''
+
 _FORWARD = '''
 def forward_dynamics(q, u, tau_a=None, params=None):
     """u̇ = M⁻¹ (τ(q, u) + Sᵀ τ_a − b − g); tau_a: one value per ACTUATED joint, or None."""
@@ -53,11 +70,29 @@ def forward_dynamics(q, u, tau_a=None, params=None):
 '''
 
 
-def _api(key: str, shape: tuple, used: frozenset, name: str | None = None, doc: str | None = None) -> str:
-    """The public function `name` (default: `key`) of quantity `key` (M(q, params), b(q, u, params), ...;
-    J_c(q, ...), Jdot_c_u(q, u, ...), closure(q, ...))."""
-    args = "q" if key in ("M", "g", "U", "J_c", "closure") else "q, u"
-    last = "" if key in ("M", "J_c") else "[..., 0, 0]" if key in ("T", "U") else "[..., 0]"
+ARGS = {"M": "q", "g": "q", "U": "q"}  # the rest: q, u
+MATRICES = ("M", "J_c", "J_com", "A_G")  # the rest are vectors (or T, U numbers)
+
+
+@dataclass(frozen=True)
+class Output:
+    """A generated output beyond the equations: its key, public name, what it is, its expression (built on
+    request), its rows' names (constraints) and arguments."""
+
+    key: str
+    name: str
+    what: str
+    build: Callable
+    rows: list = field(default_factory=list)
+    args: str = "q"
+
+
+def _api(key: str, shape: tuple, used: frozenset, name: str | None = None, doc: str | None = None,
+         args: str | None = None) -> str:
+    """The public function `name` (default: `key`) of quantity `key` (M(q, params), b(q, u, params), ...),
+    or of an `Output` (J_c(q, ...), Jdot_c_u(q, u, ...), com(q, ...), ...)."""
+    args = args or ARGS.get(key, "q, u")
+    last = "" if key in MATRICES else "[..., 0, 0]" if key in ("T", "U") else "[..., 0]"
     return (f"def {name or key}({args}, params=None):\n    \"\"\"{doc or QUANTITIES[key]}.\"\"\"\n"
             f"    return _call(_{key}, {shape}, NQ, NV, {args}, p=_p(params, {tuple(sorted(used))}))"
             f"{last}\n")
@@ -66,18 +101,31 @@ def _api(key: str, shape: tuple, used: frozenset, name: str | None = None, doc: 
 ROWS = {"J_c": "CONSTRAINT_ROWS", "Jdot_c_u": "CONSTRAINT_ROWS", "closure": "CLOSURE_ROWS"}  # rows' names
 
 
-def constraint_outputs(eom: EquationsOfMotion) -> list[tuple[str, str, str, Callable, list[str]]]:
-    """(key, public name, what, expression, row names) of J_c, J̇_c u (when the system has contacts, loops
-    or rolling disks) and the closure residual (when it has loops or rolling disks)."""
+def outputs(eom: EquationsOfMotion) -> list[Output]:
+    """The centre of mass, its Jacobian and A_G (when the system has moving mass and no flexible link) and,
+    with contacts, loops or rolling disks, J_c and J̇_c u, with loops or disks the closure residual."""
     system, kin = eom.system, eom.kinematics
     rows, closure = system.constraint_rows(), system.closure_rows()
-    outputs = [("J_c", "contact_jacobian", "J_c: the stacked rows of every contact, loop and rolling disk, "
-                "world-aligned axes", lambda: kin.constraint_jacobian()[0], rows),
-               ("Jdot_c_u", "contact_jacobian_dot_u", "J̇_c u, stacked like J_c's rows",
-                lambda: kin.constraint_jacobian()[1], rows),
-               ("closure", "closure_residual", "the loops' and rolling disks' position residuals, zero when "
-                "closed", kin.closure_residual, closure)]
-    return [out for out in outputs if out[4]]
+    found = []
+    try:
+        centroidal.total_mass(kin)
+        found += [Output("com", "com", "centre of mass c (world)", lambda: centroidal.com(kin)),
+                  Output("J_com", "com_jacobian", "J_com (3 x NV), the Jacobian of the centre of mass",
+                         lambda: centroidal.com_jacobian(kin)),
+                  Output("A_G", "centroidal_momentum_matrix", "A_G (6 x NV): [linear momentum; angular "
+                         "momentum about c] per unit speed, world axes",
+                         lambda: centroidal.centroidal_momentum_matrix(kin))]
+    except ModelError:  # no moving mass, or a flexible link: no centre of mass to write
+        pass
+    if rows:
+        found += [Output("J_c", "contact_jacobian", "J_c: the stacked rows of every contact, loop and "
+                         "rolling disk, world-aligned axes", lambda: kin.constraint_jacobian()[0], rows),
+                  Output("Jdot_c_u", "contact_jacobian_dot_u", "J̇_c u, stacked like J_c's rows",
+                         lambda: kin.constraint_jacobian()[1], rows, "q, u")]
+    if closure:
+        found.append(Output("closure", "closure_residual", "the loops' and rolling disks' position "
+                            "residuals, zero when closed", kin.closure_residual, closure))
+    return found
 
 
 def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title: str = "model") -> str:
@@ -91,12 +139,14 @@ def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title
     for key in keys:
         if key not in f.functions:  # tau, T, U
             f._on_demand(key)
+    kin = eom.kinematics
     for k, frame in enumerate(frames):
-        f._function(f"J:{k}", lambda frame=frame: eom.kinematics.jacobian(frame))
-        f._function(f"Jdot_u:{k}", lambda frame=frame: eom.kinematics.jacobian_dot_u(frame))
-    constraints = constraint_outputs(eom)
-    for key, _, _, expr, _ in constraints:
-        f._function(key, expr)
+        f._function(f"J:{k}", lambda frame=frame: kin.jacobian(frame))
+        f._function(f"Jdot_u:{k}", lambda frame=frame: kin.jacobian_dot_u(frame))
+        f._function(f"X:{k}", lambda frame=frame: placement(kin, frame))
+    extra = outputs(eom)
+    for out in extra:
+        f._function(out.key, out.build)
     parts = [f'"""Equations of motion M(q) u̇ + b(q, u) + g(q) = τ(q, u) + Sᵀ τ_a of {title!r}, generated '
              f'by eomgen {__version__} ({eom.method}).\n\nNeeds only numpy. q has shape (NQ,) or (N, NQ), '
              "u (NV,) or (N, NV).\nParameters: params={name: value}, by name only (PARAMETERS); a "
@@ -112,22 +162,25 @@ def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title
              f"FRAMES = {tuple(frames)!r}",
              f"ACTUATED = {tuple(eom.system.actuated)!r}  # τ_a, a row of S each",
              f"S = numpy.array({f.S.tolist()!r}).reshape(len(ACTUATED), NV)  # selection matrix",
-             *(f"{ROWS[key]} = {rows!r}  # the rows of {name}" for key, name, _, _, rows in constraints
-               if key != "Jdot_c_u"),
+             *(f"{ROWS[out.key]} = {out.rows!r}  # the rows of {out.name}" for out in extra
+               if out.key in ("J_c", "closure")),
              _HELPERS, RUNTIME, PARAMETER_RUNTIME]
-    written = keys + [key for key, *_ in constraints]
+    written = keys + [out.key for out in extra]
     parts += [f.functions[key].source.replace("def f(", f"def _{key}(", 1) for key in written]
+    per_frame = (("_JACOBIANS", "J"), ("_JACOBIANS_DOT_U", "Jdot_u"), ("_PLACEMENTS", "X"))
     for k in range(len(frames)):
-        parts.append(f.functions[f"J:{k}"].source.replace("def f(", f"def _J{k}(", 1))
-        parts.append(f.functions[f"Jdot_u:{k}"].source.replace("def f(", f"def _Jdot_u{k}(", 1))
-    for name, prefix in (("_JACOBIANS", "J"), ("_JACOBIANS_DOT_U", "Jdot_u")):
+        parts += [f.functions[f"{prefix}:{k}"].source.replace("def f(", f"def _{prefix}{k}(", 1)
+                  for _, prefix in per_frame]
+    for name, prefix in per_frame:
         pairs = [f"(_{prefix}{k}, {tuple(sorted(f.functions[f'{prefix}:{k}'].params_used))})"
                  for k in range(len(frames))]
         parts.append(f"{name} = [{', '.join(pairs)}]")
     parts += [_api(key, f.functions[key].shape, f.functions[key].params_used) for key in keys]
-    parts += [_api(key, f.functions[key].shape, f.functions[key].params_used, name, f"{what} ({ROWS[key]})")
-              for key, name, what, _, _ in constraints]
-    parts.append(_JACOBIAN_API)
+    parts += [_api(out.key, f.functions[out.key].shape, f.functions[out.key].params_used, out.name,
+                   f"{out.what} ({ROWS[out.key]})" if out.rows else out.what, out.args) for out in extra]
+    parts += [_JACOBIAN_API, _PLACEMENT_API]
+    if any(out.key == "A_G" for out in extra):
+        parts.append(_CENTROIDAL_MOMENTUM)
     if {"M", "b", "g"} <= set(keys):
         nle = "nle(q, u, params)" if "nle" in keys else "(b(q, u, params) + g(q, params))"
         parts.append(_FORWARD.format(nle=nle))
@@ -137,11 +190,12 @@ def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title
 def write_module(eom: EquationsOfMotion, path, frames: list[str] | None = None,
                  title: str | None = None) -> Path:
     """Write an importable `.py` module that needs only numpy: M, b, g, nle, T, U (those derived), tau
-    (the loads), forward_dynamics, jacobian and jacobian_dot_u (for the given frames; default: every
-    moving body and named frame) of `eom`, with PARAMETERS, their ASSUMPTIONS, ACTUATED and the
-    selection matrix S; with contacts, loops or rolling disks also contact_jacobian (J_c),
-    contact_jacobian_dot_u (J̇_c u) and closure_residual (loops, disks), their rows named in
-    CONSTRAINT_ROWS and CLOSURE_ROWS."""
+    (the loads), forward_dynamics, jacobian, jacobian_dot_u and placement (for the given frames; default:
+    every moving body and named frame), com, com_jacobian, centroidal_momentum_matrix and
+    centroidal_momentum (when the system has moving mass and no flexible link) of `eom`, with PARAMETERS,
+    their ASSUMPTIONS, ACTUATED and the selection matrix S; with contacts, loops or rolling disks also
+    contact_jacobian (J_c), contact_jacobian_dot_u (J̇_c u) and closure_residual (loops, disks), their rows
+    named in CONSTRAINT_ROWS and CLOSURE_ROWS."""
     equations(eom, "write_module")
     path = Path(path)
     title = title or getattr(eom.system, "name", None) or path.stem
