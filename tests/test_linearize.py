@@ -173,7 +173,8 @@ def derivative(function, h: float = 1e-3):
 def test_quaternion_and_planar_joints_against_finite_differences_along_integrate():
     """x = [δ, u] with q = q0 ⊕ δ: ẋ(δ, u) = [d/dt (q ⊖ q0) along q̇ = u (eg.integrate, eg.difference), the
     forward dynamics at q0 ⊕ δ]; A and B equal its finite differences to 1e-9 at random states (the
-    tangent coordinates' −½ ad(u0) is in A: without it the kinematic rows differ by about |u0|)."""
+    tangent coordinates' −½ ad(u0) is in A: without it the kinematic rows differ by about |u0|); Kane's
+    equations of the same system give the same."""
     system = floating_system()
     eom = eg.derive(system, method="recursive")
     f = eg.codegen(eom)
@@ -193,6 +194,10 @@ def test_quaternion_and_planar_joints_against_finite_differences_along_integrate
         np.testing.assert_allclose(L.A, A, atol=1e-9 * np.abs(A).max())
         np.testing.assert_allclose(L.B, B, atol=1e-9 * np.abs(B).max())
         assert np.abs(L.A[:nv, :nv]).max() > 0.1  # the drift of the tangent coordinates
+    by_kane = eg.linearize(eg.kane(system), (q0, u0, tau0))  # w = u, the same tangent coordinates
+    assert by_kane.states == L.states
+    np.testing.assert_allclose(by_kane.A, L.A, atol=1e-11)
+    np.testing.assert_allclose(by_kane.B, L.B, atol=1e-11)
     assert L.states[:3] == ("delta_root_vx", "delta_root_vy", "delta_root_vz") and "pl_theta" in L.states
     assert L.inputs[:3] == ("tau_ball_wx", "tau_ball_wy", "tau_ball_wz")
 

@@ -119,13 +119,18 @@ def disk_by_hand(w, g, R) -> sp.Matrix:
 
 def test_rolling_disk_symbolic_equals_hand():
     """Kane's equations of the disk (examples/rolling_disk.py) linearized in closed form, the spin rate a
-    symbol: A equals the hand linearization; x = (x, y, yaw, lean, spin, yawdot, leandot, spindot)."""
+    symbol: A equals the hand linearization; x = (x, y, yaw, lean, spin, yawdot, leandot, spindot); the same
+    from the equations of motion with add_rolling (z the coordinate the height fixes, chosen by pivoting)."""
     system, k = disk.rolling_disk()
     w, R, g = sp.Symbol("omega", real=True), sp.Symbol("R", positive=True), sp.Symbol("g", positive=True)
     L = eg.linearize(k, {**dict.fromkeys(map(str, system.q), 0), "z": R, "spindot": w}, symbolic=True)
     assert L.states == ("x", "y", "yaw", "lean", "spin", "yawdot", "leandot", "spindot")
     assert L.A == disk_by_hand(w, g, R) and L.B.shape == (8, 6)
     assert L.xdot0 == sp.Matrix([R * w, 0, 0, 0, w, 0, 0, 0])
+    eom = eg.derive(system, method="recursive")
+    by_eom = eg.linearize(eom, {**dict.fromkeys(map(str, system.q), 0), "z": R, "spindot": w},
+                          independent=["yaw", "lean", "spin"], symbolic=True)
+    assert by_eom.A == L.A and by_eom.states == L.states
 
 
 @pytest.mark.parametrize("factor", [0.5, 0.9, 1.0, 1.1, 2.0])
