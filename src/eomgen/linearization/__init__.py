@@ -33,7 +33,7 @@ _models: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 @dataclass(frozen=True)
 class Linearization:
     """ẋ ≈ xdot0 + A (x − x0) + B (r − r0) about an operating point: `states` name the entries of x (the
-    independent coordinates, 'delta_<speed>' for a tangent coordinate of a quaternion or planar joint,
+    independent coordinates, `delta_<speed>` for a tangent coordinate of a quaternion or planar joint,
     then the independent speeds, then the motor currents), `inputs` those of r. NumPy arrays, or sympy
     matrices when symbolic. xdot0 = 0 at an equilibrium; a steady motion (u0 ≠ 0) has the coordinates'
     rates in it."""

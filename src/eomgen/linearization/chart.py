@@ -44,7 +44,7 @@ def adjoint(group: str, u, algebra: Algebra) -> np.ndarray:
 
 class Chart:
     """The tangent directions of a system: `names` (the coordinate's name where q̇_k = u_j, else
-    'delta_' and the speed's name), `coordinate` {direction: q_k}, and the joints moving in a group."""
+    `delta_<speed>`), `coordinate` {direction: q_k}, and the joints moving in a group."""
 
     def __init__(self, system: System) -> None:
         u = list(system.u)
