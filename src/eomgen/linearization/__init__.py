@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import weakref
 from collections.abc import Mapping
-from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
@@ -23,69 +22,13 @@ from .dual import Algebra, Dual, solve, vstack
 from .equations import EquationsModel
 from .kane import KaneModel
 from .operating_point import inputs as chosen_inputs, operating_point
+from .motors import current_rates
 from .pieces import Point, values as parameter_values
+from .result import Linearization
 
 SYMBOLIC_STATES = 12  # states beyond which symbolic=True is refused
-TOL = 1e-9  # the holonomic constraints at q0, and the given dependent speeds, relative to max(1, |x|)
+TOL = 1e-9  # the holonomic constraints' residuals at q0, and the given speeds' differences
 _models: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
-@dataclass(frozen=True)
-class Linearization:
-    """ẋ ≈ xdot0 + A (x − x0) + B (r − r0) about an operating point: `states` name the entries of x (the
-    independent coordinates, `delta_<speed>` for a tangent coordinate of a quaternion or planar joint,
-    then the independent speeds, then the motor currents), `inputs` those of r. NumPy arrays, or sympy
-    matrices when symbolic. xdot0 = 0 at an equilibrium; a steady motion (u0 ≠ 0) has the coordinates'
-    rates in it."""
-
-    A: np.ndarray | sp.Matrix
-    B: np.ndarray | sp.Matrix
-    states: tuple[str, ...]
-    inputs: tuple[str, ...]
-    x0: np.ndarray | sp.Matrix
-    r0: np.ndarray | sp.Matrix
-    xdot0: np.ndarray | sp.Matrix
-
-    def index(self, names) -> list[int]:
-        """The positions of states in x, by name."""
-        names = [names] if isinstance(names, str) else list(names)
-        unknown = [x for x in names if x not in self.states]
-        if unknown:
-            raise ModelError(f"Linearization: unknown states {unknown}; the states are {list(self.states)}")
-        return [self.states.index(x) for x in names]
-
-    def select(self, states, inputs=None) -> Linearization:
-        """The rows and columns of some states (and of some inputs; default all): the linearization of a
-        subsystem, exact when the other states do not drive these (A block triangular)."""
-        i = self.index(states)
-        inputs = self.inputs if inputs is None else [inputs] if isinstance(inputs, str) else list(inputs)
-        unknown = [x for x in inputs if x not in self.inputs]
-        if unknown:
-            raise ModelError(f"Linearization: unknown inputs {unknown}; the inputs are {list(self.inputs)}")
-        k = [self.inputs.index(x) for x in inputs]
-        if isinstance(self.A, sp.MatrixBase):
-            part = lambda X, r, c=(0,): X.extract(r, list(c))  # noqa: E731
-        else:
-            part = lambda X, r, c=None: X[np.ix_(r, c)] if c is not None else X[r]  # noqa: E731
-        return Linearization(
-            part(self.A, i, i),
-            part(self.B, i, k),
-            tuple(self.states[j] for j in i),
-            tuple(inputs),
-            part(self.x0, i),
-            part(self.r0, k),
-            part(self.xdot0, i),
-        )
-
-    def eigenvalues(self) -> np.ndarray:
-        """The eigenvalues of A, sorted (numpy.sort_complex); numbers only."""
-        try:
-            A = np.array(self.A.tolist() if isinstance(self.A, sp.MatrixBase) else self.A, dtype=float)
-        except TypeError:
-            raise ModelError(
-                "Linearization: A has symbols: substitute numbers for its eigenvalues"
-            ) from None
-        return np.sort_complex(np.linalg.eigvals(A))
 
 
 def linearize(
@@ -125,57 +68,94 @@ def linearize(
     standin, at = _numbers(point, model) if symbolic else (point, {})
     dependent = case.dependent(standin)
     coordinates = [j for j in range(len(model.every)) if j not in dependent]
-    sizes = np.cumsum(
-        [0, len(coordinates), len(case.speeds), len(currents), len(chosen.efforts), len(chosen.parameters)]
-    )
-    n = point.n = int(sizes[-1])
-    if symbolic and sizes[3] > SYMBOLIC_STATES:
+    sizes = [len(coordinates), len(case.speeds), len(currents), len(chosen.efforts), len(chosen.parameters)]
+    if symbolic and sum(sizes[:3]) > SYMBOLIC_STATES:
         raise ModelError(
-            f"linearize: {sizes[3]} states: symbolic=True is for at most {SYMBOLIC_STATES}; "
+            f"linearize: {sum(sizes[:3])} states: symbolic=True is for at most {SYMBOLIC_STATES}; "
             "linearize numerically (symbolic=False)"
         )
-    E = algebra.eye(n)
-    dq = algebra.zeros(n, len(model.every))
-    dq[:, coordinates] = E[:, : sizes[1]]
-    point.tangents = {"q": dq, "p": np.concatenate([E[:, sizes[2] : sizes[3]], E[:, sizes[4] :]], axis=1)}
+    d_coordinates, d_speeds, d_currents, d_efforts, d_parameters = _directions(sizes, algebra)
+    point.n = d_speeds.shape[0]
+    point.tangents = {
+        "q": algebra.zeros(point.n, len(model.every)),
+        "p": np.concatenate([d_currents, d_parameters], axis=1),
+    }
+    point.tangents["q"][:, coordinates] = d_coordinates
     if dependent:
-        f, F = case.closure(point)
-        _check(
-            f.value[:, 0],
-            0,
-            at,
-            "q0 does not satisfy the holonomic constraints (assemble it: eg.assemble, "
-            "or assemble of Kane's generated functions); their residuals are",
-        )
-        dq[:, dependent] = -solve(algebra, Dual(F[:, dependent]), f, "∂f/∂q_dep").tangent[:, :, 0]
-    speeds = Dual(_column(op.speeds, algebra), E[:, sizes[1] : sizes[2], None])
-    d_efforts = algebra.zeros(n, len(op.efforts), 1)
-    for k, i in enumerate(chosen.efforts):
-        d_efforts[sizes[3] + k, i, 0] = E[0, 0]
-    u, w, rates = case.dynamics(point, speeds, Dual(_column(op.efforts, algebra), d_efforts), algebra)
-    if op.full is not None:
-        _check(w.value[:, 0] - op.full, 0, at, "the speeds differ from those the constraints allow by")
-    qdot = u + Dual(
-        algebra.zeros(*u.value.shape), (dq @ model.chart.drift(u.value[:, 0], algebra).T)[:, :, None]
+        _holonomic(case, point, dependent, at, algebra)
+    tau_a = algebra.zeros(point.n, len(op.efforts), 1)
+    tau_a[:, chosen.efforts, 0] = d_efforts
+    u, w, rates = case.dynamics(
+        point,
+        Dual(_column(op.speeds, algebra), d_speeds[:, :, None]),
+        Dual(_column(op.efforts, algebra), tau_a),
+        algebra,
     )
-    parts = [qdot[coordinates], rates]
+    if op.full is not None:
+        _check(w.value[:, 0] - op.full, at, "the speeds differ from those the constraints allow by")
+    drift = point.tangents["q"] @ model.chart.drift(u.value[:, 0], algebra).T  # −½ ad(u0) δ
+    parts = [(u + Dual(algebra.zeros(*u.value.shape), drift[:, :, None]))[coordinates], rates]
     if currents:
-        c = model.pieces.dual("motor", point, u)
         parts.append(
-            c[:, 0:1] - c[:, 1:2] * Dual(_column(op.currents, algebra), E[:, sizes[2] : sizes[3], None])
+            current_rates(
+                model.pieces, point, u, Dual(_column(op.currents, algebra), d_currents[:, :, None])
+            )
         )
-    xdot = vstack(parts, n, algebra)
+    xdot = vstack(parts, point.n, algebra)
+    return _result(model, xdot, coordinates, case.speeds, chosen, op, values, symbolic, simplify)
+
+
+def _directions(sizes: list[int], algebra: Algebra) -> list[np.ndarray]:
+    """The directions (rows: one per state, then per input) of the coordinates, speeds, currents, efforts
+    and parameters: the columns of the identity, in blocks."""
+    E = algebra.eye(sum(sizes))
+    ends = np.cumsum([0, *sizes])
+    return [E[:, a:b] for a, b in zip(ends[:-1], ends[1:])]
+
+
+def _holonomic(case, point: Point, dependent: list[int], at: dict, algebra: Algebra) -> None:
+    """The dependent directions of dδ from f(q0 ⊕ δ) = 0: dδ_dep = −F_dep⁻¹ (F_ind dδ_ind + ∂f/∂p dp);
+    an operating point off the constraints refused."""
+    f, F = case.closure(point)
+    _check(
+        f.value[:, 0],
+        at,
+        "q0 does not satisfy the holonomic constraints (assemble it: eg.assemble, or "
+        "assemble of Kane's generated functions); their residuals are",
+    )
+    point.tangents["q"][:, dependent] = -solve(algebra, Dual(F[:, dependent]), f, "∂f/∂q_dep").tangent[
+        :, :, 0
+    ]
+
+
+def _result(
+    model,
+    xdot: Dual,
+    coordinates: list[int],
+    speeds: list,
+    chosen,
+    op,
+    values: dict,
+    symbolic: bool,
+    simplify: bool,
+) -> Linearization:
+    """A, B from the derivatives of ẋ (along the states, then the inputs), the names and x0, r0, ẋ0."""
     J = xdot.tangent[:, :, 0].T
-    chart, q = model.chart, list(system.q)
+    nx = J.shape[0]
+    chart, q = model.chart, list(model.system.q)
     x0 = [op.q[q.index(chart.coordinate[j])] if j in chart.coordinate else 0 for j in coordinates]
     r0 = [*op.efforts[chosen.efforts], *(values.get(p, p) for p in chosen.parameters)]
-    out = [J[:, : sizes[3]], J[:, sizes[3] :], [*x0, *op.speeds, *op.currents], r0, xdot.value[:, 0]]
+    out = [J[:, :nx], J[:, nx:], [*x0, *op.speeds, *op.currents], r0, xdot.value[:, 0]]
     if symbolic:
         out = [sp.Matrix(np.reshape(np.array(x, dtype=object), (len(x), -1)).tolist()) for x in out]
         out = [x.applyfunc(sp.simplify) if simplify else x for x in out]
     else:
         out = [np.asarray(x, dtype=float) for x in out]
-    names = [*(chart.names[j] for j in coordinates), *map(str, case.speeds), *map(str, currents)]
+    names = [
+        *(chart.names[j] for j in coordinates),
+        *map(str, speeds),
+        *(str(m.current) for m in model.system.motors),
+    ]
     return Linearization(out[0], out[1], tuple(names), tuple(chosen.names), *out[2:])
 
 
@@ -208,9 +188,8 @@ def _numbers(point: Point, model) -> tuple[Point, dict]:
     return Point(np.array([number(x) for x in point.q]), values, point.chosen, {}, 0, Algebra(False)), at
 
 
-def _check(x, expected, at: dict, what: str) -> None:
-    """Refuse an operating point where x differs from `expected` by more than TOL max(1, |expected|)."""
+def _check(x, at: dict, what: str) -> None:
+    """Refuse an operating point where x (residuals, at the values `at` of its symbols) exceeds TOL."""
     numbers = np.array([complex(sp.sympify(v).xreplace(at).evalf()) if at else v for v in x], dtype=complex)
-    scale = max(1.0, float(np.max(np.abs(expected), initial=0)))
-    if np.max(np.abs(numbers - expected), initial=0) > TOL * scale:
+    if np.max(np.abs(numbers), initial=0) > TOL:
         raise ModelError(f"linearize: op_point: {what} {np.real_if_close(numbers)}")

@@ -18,6 +18,7 @@ from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..reduction import Reduced
 from .chart import Chart
+from .motors import motor_pieces
 from .dual import Algebra, Dual, placed, solve
 from .pieces import Pieces, Point
 
@@ -126,26 +127,3 @@ class EquationsCase:
         )
         h = pieces.dual("tau", point, u) - pieces.dual("nle", point, u) + tau_a
         return u, u, solve(algebra, R.T @ M @ R, R.T @ (h - M @ s), "the reduced mass matrix Rᵀ M R")
-
-
-def motor_pieces(system) -> dict:
-    """The DC motors' circuits L di/dt = U − R i − k N q̇ as di/dt = a − b i: [a, b] per motor."""
-    if not system.motors:
-        return {}
-    import sympy as sp
-
-    u = system.u
-    return {
-        "motor": (
-            sp.Matrix(
-                [
-                    [
-                        (m.voltage - m.torque_constant * m.gear_ratio * u[m.body.index]) / m.inductance,
-                        m.resistance / m.inductance,
-                    ]
-                    for m in system.motors
-                ]
-            ),
-            {"u"},
-        )
-    }

@@ -17,7 +17,7 @@ from ..errors import ModelError
 from ..methods.kane import KaneEquations
 from .chart import Chart
 from .dual import Algebra, Dual, placed, solve
-from .equations import motor_pieces
+from .motors import motor_pieces
 from .pieces import Pieces, Point
 
 
