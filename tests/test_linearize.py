@@ -240,6 +240,9 @@ def test_bad_input():
         eg.linearize(big, (eg.random_states(big.system, 1, np.random.default_rng(0))[0][0], np.zeros(12)),
                      symbolic=True)
     L = eg.linearize(eom, zero, params=CART_POLE)
+    eom.system.add_body("extra", parent="pole", joint=eg.Revolute("extra"), mass=1, inertia=sp.eye(3))
+    with pytest.raises(eg.ModelError, match="the system changed after these equations were derived"):
+        eg.linearize(eom, zero, params=CART_POLE)
     with pytest.raises(eg.ModelError, match=r"Linearization: unknown states \['theta'\]"):
         L.select(["theta"])
     with pytest.raises(eg.ModelError, match=r"Linearization: unknown inputs \['F'\]"):

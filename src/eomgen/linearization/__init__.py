@@ -8,7 +8,6 @@ pipeline by the chain rule (`dual`), or the same at a symbolic point (closed for
 
 from __future__ import annotations
 
-import weakref
 from collections.abc import Mapping
 
 import numpy as np
@@ -28,7 +27,6 @@ from .result import Linearization
 
 SYMBOLIC_STATES = 12  # states beyond which symbolic=True is refused
 TOL = 1e-9  # the holonomic constraints' residuals at q0, and the given speeds' differences
-_models: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def linearize(
@@ -160,17 +158,17 @@ def _result(
 
 
 def _model(equations):
-    """The linearization's pieces of these equations (generated once, kept while the equations live)."""
+    """The linearization's pieces of these equations, generated once and kept with them."""
     if not isinstance(equations, (EquationsOfMotion, KaneEquations)):
         raise ModelError(
             f"linearize: expected EquationsOfMotion or KaneEquations, got {type(equations).__name__} "
             "(derive them first: eg.derive(system) or eg.kane(system, ...))"
         )
-    if equations not in _models:
-        _models[equations] = (KaneModel if isinstance(equations, KaneEquations) else EquationsModel)(
-            equations
-        )
-    return _models[equations]
+    equations.subexpressions  # refused once the system has changed since the derivation
+    if "_linearization" not in vars(equations):
+        model = KaneModel if isinstance(equations, KaneEquations) else EquationsModel
+        vars(equations)["_linearization"] = model(equations)
+    return vars(equations)["_linearization"]
 
 
 def _column(x, algebra: Algebra) -> np.ndarray:

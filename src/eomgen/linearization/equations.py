@@ -87,6 +87,7 @@ class EquationsCase:
             return []
         f = self.model.f
         self.active = self.reduced._rows(point.values)
+        self.reduced._J_d(point.q, point.values)  # refused where singular, naming the rows and speeds
         self.closures = [k for k, i in enumerate(f.closure_index) if self.active[i]]
         candidates, k = self.reduced.dependent, len(self.closures)
         if k == len(candidates) or not k:
