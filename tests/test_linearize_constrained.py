@@ -1,7 +1,8 @@
 """eg.linearize with constraints, in the independent coordinates and speeds: the four-bar as Kane's equations
 with holonomic constraints and as equations of motion with a loop, against each other, a hand closed form
 (the pose by circle intersection, J(θ) and V(θ) differentiated by sympy) and finite differences of the
-generated right-hand sides (a parameter of the loop included); the rolling disk (Kane's, nonholonomic, and
+generated right-hand sides (a parameter of the loop included); an arm held at its tip by a contact against
+differences of eg.reduce; the rolling disk (Kane's, nonholonomic, and
 as equations of motion with add_rolling) about upright rolling against its hand linearization, symbolic in
 the spin rate, the eigenvalues' real parts crossing zero at ω² = g/(3R); the Whipple bicycle's published
 eigenvalues, weave and capsize speeds (tests/test_bicycle.py) without finite differences."""
@@ -103,6 +104,34 @@ def test_four_bar_kane_and_loop_equal_hand_and_differences(theta0, rate):
         q = eg.assemble(g, q0, fixed=["q1"], params=params)
         return np.r_[rate, reduced.forward_dynamics(q, [rate], params=params)[0]]
     np.testing.assert_allclose(by_loop.B[:, 1:], derivative(along_d, np.array([K.BAR["d"]])), rtol=1e-7)
+
+
+def test_contact_rows_against_differences_of_reduce():
+    """A planar three-link arm whose tip is held by a point contact (rows x, y; velocity constraints, no
+    closure: every coordinate stays a state), th1 independent, at a state with speed and efforts: A, B equal
+    differences of ẋ = [R(q) u_i, u̇_i] (eg.reduce's R and forward dynamics) to 1e-8."""
+    system = eg.System(gravity=(0, -9.81, 0))
+    parent, at = None, 0.0
+    for i, (length, mass) in enumerate([(0.5, 1.0), (0.4, 0.8), (0.3, 0.5)], 1):
+        parent = system.add_body(f"link{i}", parent=parent, joint=eg.Revolute(f"th{i}"), mass=mass,
+                                 com=(length / 2, 0, 0), inertia=sp.diag(0, 1, 1) * mass * length**2 / 12,
+                                 placement=eg.Placement(translation=(at, 0, 0)))
+        at = length
+    system.add_frame("tip", parent, eg.Placement(translation=(at, 0, 0)))
+    system.add_contact("tip")
+    eom = eg.derive(system, method="recursive")
+    q0, tau0 = np.array([0.3, 0.9, -1.1]), np.array([0.4, -0.2, 0.1])
+    L = eg.linearize(eom, (q0, [0.7], tau0), independent=["th1"])
+    assert L.states == ("th1", "th2", "th3", "th1dot") and L.inputs == ("tau_th1", "tau_th2", "tau_th3")
+    reduced = eg.reduce(eg.codegen(eom), ["th1"])
+
+    def xdot(x, tau=tau0):
+        q, u = x[:3], x[3:]
+        return np.r_[reduced.R(q) @ u, reduced.forward_dynamics(q, u, tau)[0]]
+    x0 = np.r_[q0, 0.7]
+    np.testing.assert_allclose(L.A, derivative(xdot, x0), rtol=1e-8, atol=1e-8)
+    np.testing.assert_allclose(L.B, derivative(lambda t: xdot(x0, t), tau0), rtol=1e-8, atol=1e-8)
+    np.testing.assert_allclose(L.xdot0, xdot(x0), rtol=1e-13)
 
 
 def disk_by_hand(w, g, R) -> sp.Matrix:
