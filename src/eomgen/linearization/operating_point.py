@@ -102,7 +102,7 @@ def operating_point(
             )
         parts = [[given.get(x, 0) for x in part] for part in names]
     elif isinstance(op_point, (tuple, list)) and 2 <= len(op_point) <= 4:
-        parts = list(op_point) + [np.zeros(k) for k in n[len(op_point) :]]
+        parts = list(op_point) + [[0] * k for k in n[len(op_point) :]]
         if np.size(parts[1]) == len(every) != len(speeds):
             full = _values(parts[1], len(every), "the speeds", algebra)
             return replace(
