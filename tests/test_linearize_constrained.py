@@ -74,7 +74,8 @@ def derivative(function, x0, h=1e-4) -> np.ndarray:
 @pytest.mark.parametrize("theta0, rate", [(0.7, 1.3), (-2.0, -0.4)])
 def test_four_bar_kane_and_loop_equal_hand_and_differences(theta0, rate):
     """x = [q1, q̇1] (q2, q3 dependent): Kane's equations with holonomic constraints and the equations of
-    motion with a loop give the same A, B, equal to the hand closed form to 1e-9 and to differences of
+    motion with a loop give the same A, B (Kane's also in the links' absolute rates), equal to the hand
+    closed form to 1e-9 and to differences of
     Kane's generated rhs (q2, q3 assembled) to 1e-8; ∂ẋ/∂d (the pin's distance, a parameter of the loop)
     equals differences of the reduced forward dynamics with q assembled for d ± h."""
     system, args = K.four_bar()
@@ -88,6 +89,10 @@ def test_four_bar_kane_and_loop_equal_hand_and_differences(theta0, rate):
     A, B = four_bar_by_hand(theta0, rate)
     np.testing.assert_allclose(by_kane.A, A, rtol=1e-9, atol=1e-9)
     np.testing.assert_allclose(by_kane.B, B, rtol=1e-9)
+    other, in_w = K.four_bar("absolute")  # w = the links' absolute rates, by kinematic equations; w1 = q̇1
+    by_absolute = eg.linearize(eg.kane(other, **in_w), (q0, [rate]), inputs=["tau_q1"])
+    assert by_absolute.states == ("q1", "w1")
+    np.testing.assert_allclose(by_absolute.A, by_kane.A, rtol=1e-11, atol=1e-11)
     np.testing.assert_allclose(by_loop.A, by_kane.A, rtol=1e-11, atol=1e-11)
     np.testing.assert_allclose(by_loop.B[:, :1], by_kane.B, rtol=1e-11)
     f = eg.codegen(kane)
@@ -144,6 +149,28 @@ def disk_by_hand(w, g, R) -> sp.Matrix:
     A[2, 5] = A[3, 6] = A[4, 7] = 1
     A[5, 6], A[6, 3], A[6, 5] = -2 * w, 4 * g / (5 * R), 6 * w / 5
     return A
+
+
+def test_rolling_disk_in_new_speeds_against_differences():
+    """The disk in the speeds of tests/test_rolling_disk.py (ẋ, ẏ, ż, ψ̇, φ̇ and ω along the axle, θ̇ + ψ̇ sin φ:
+    kinematic equations, u = −Y⁻¹ (K w + k0) depends on q) at a leaning, turning state: A equals
+    differences of the generated rhs (z assembled) to 1e-8, ẋ0 the rhs."""
+    system, _ = disk.rolling_disk()
+    w = sp.symbols("w1:7")
+    u, lean = system.u, system.q[4]
+    kinematic = [w[i] - u[i] for i in range(5)] + [w[5] - u[5] - u[3] * sp.sin(lean)]
+    k = eg.kane(system, speeds=w, kinematic_equations=kinematic, dependent_coordinates=[system.q[2]],
+                independent=w[3:])
+    f, v = eg.codegen(k), disk.VALUES
+    x0 = np.array([0.1, -0.2, 0.4, 0.3, 0.5, 0.7, -0.4, 5.0])  # x, y, yaw, lean, spin, w4, w5, w6
+
+    def xdot(x):
+        q = f.assemble(np.r_[x[:2], v["R"], x[2:5]], v)
+        return f.rhs(0, np.r_[q, x[5:]], v)[[0, 1, 3, 4, 5, 6, 7, 8]]
+    L = eg.linearize(k, (f.assemble(np.r_[x0[:2], v["R"], x0[2:5]], v), x0[5:]), inputs=[], params=v)
+    assert L.states == ("x", "y", "yaw", "lean", "spin", "w4", "w5", "w6") and L.B.shape == (8, 0)
+    np.testing.assert_allclose(L.A, derivative(xdot, x0), rtol=1e-8, atol=1e-8)
+    np.testing.assert_allclose(L.xdot0, xdot(x0), rtol=1e-13)
 
 
 def test_rolling_disk_symbolic_equals_hand():
