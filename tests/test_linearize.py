@@ -222,6 +222,8 @@ def test_bad_input():
         eg.linearize(eom, np.zeros(4), params=CART_POLE)
     with pytest.raises(eg.ModelError, match=r"params: values missing for the parameters \['l', 'm_c', 'm_p'\]"):
         eg.linearize(eom, zero)
+    with pytest.raises(eg.ModelError, match=r"params: expected a mapping \{name: value\}, got list"):
+        eg.linearize(eom, zero, params=[1.0, 0.3, 0.7, 9.81])
     with pytest.raises(eg.ModelError, match="params: unknown parameter 'mass'"):
         eg.linearize(eom, zero, params={**CART_POLE, "mass": 1})
     with pytest.raises(eg.ModelError, match="independent: the system has no contacts, loops or rolling"):

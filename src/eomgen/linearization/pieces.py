@@ -116,23 +116,19 @@ class Pieces:
     def dual(self, name: str, point: Point, u: Dual | None = None, w: Dual | None = None) -> Dual:
         """The piece at `point` (with the speeds u, w where it takes them) and its derivatives along the
         point's directions."""
-        evaluate = self.evaluate
         uv, wv = (None if x is None else x.value[:, 0] for x in (u, w))
-        value = evaluate(name, None, point, uv, wv)
+        value = self.evaluate(name, None, point, uv, wv)
         tangent = None
-        arguments = {"q": point.tangents["q"], "u": _flat(u), "w": _flat(w), "p": point.tangents.get("p")}
-        for family, d in arguments.items():
-            if (
-                d is None
-                or not d.shape[1]
-                or family in ("u", "w")
-                and (family not in self.exprs[name][1] or not self.seeds[family])
-            ):
-                continue
-            J = evaluate(name, family, point, uv, wv)
-            t = (d @ J.T).reshape((point.n,) + value.shape)
-            tangent = t if tangent is None else tangent + t
+        directions = {"q": point.tangents["q"], "u": _flat(u), "w": _flat(w), "p": point.tangents.get("p")}
+        for family, d in directions.items():
+            if d is not None and d.shape[1] and self._takes(name, family):
+                t = (d @ self.evaluate(name, family, point, uv, wv).T).reshape((point.n,) + value.shape)
+                tangent = t if tangent is None else tangent + t
         return Dual(value, tangent)
+
+    def _takes(self, name: str, family: str) -> bool:
+        """Whether the piece depends on a family's symbols: q and p always, u and w where declared."""
+        return family in ("q", "p") or family in self.exprs[name][1] and bool(self.seeds[family])
 
 
 def _flat(x: Dual | None) -> np.ndarray | None:
@@ -142,6 +138,8 @@ def _flat(x: Dual | None) -> np.ndarray | None:
 
 def values(parameters: Parameters, params: Mapping | None, symbolic: bool) -> dict:
     """{symbol: value} of the given parameters by name or symbol (numbers; or sympy values, symbolic)."""
+    if params is not None and not isinstance(params, Mapping):
+        raise ModelError(f"params: expected a mapping {{name: value}}, got {type(params).__name__}")
     out = {}
     for key, value in (params or {}).items():
         k = parameters.index.get(key, parameters.index.get(str(key)))
