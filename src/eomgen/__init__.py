@@ -19,12 +19,15 @@ from .simplification import simplified
 from .worked import Solution, Step, solution
 from .state import difference, integrate, random_states
 from .simulate import simulate
+from .plotting import plot
+from .animation import animate
 from .tradeoff import tradeoff
 from .verify import verify
 
 __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed", "FlexibleLink", "FreeFlyer", "Helical",
-           "Kinematics", "Linearization", "ModelError", "Placement", "Planar", "Prismatic", "Revolute", "Solution", "Spherical", "Step",
+           "Kinematics", "Linearization", "ModelError", "Placement", "Planar", "Prismatic", "Revolute",
+           "Solution", "Spherical", "Step",
            "System", "Translation", "Universal", "assemble", "codegen", "derive", "from_dh", "from_mjcf",
            "from_urdf", "integrate", "kane", "linearize", "project", "quiet", "random_states", "reduce", "robots",
-           "difference", "simplified", "simulate", "solution",
+           "difference", "simplified", "simulate", "plot", "animate", "solution",
            "tradeoff", "verify", "write_c", "write_module"]
