@@ -3,6 +3,7 @@ derivation and sympy's KanesMethod linearizer, and an LQR from it that brings th
 upright; a pendulum's load and model parameters as inputs and a DC motor's voltage, by hand; a free flyer
 with a ball and a planar joint (quaternions, tangent coordinates) against finite differences along
 eg.integrate; bad input refused."""
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -21,8 +22,13 @@ def cart_pole() -> eg.EquationsOfMotion:
     angle phi about z from the upright (the mass at (x − l sin phi, l cos phi)); gravity −y."""
     system = eg.System(gravity=(0, -g, 0))
     cart = system.add_body("cart", joint=eg.Prismatic("x", axis=(1, 0, 0)), mass=m_c)
-    system.add_body("pole", parent=cart, joint=eg.Revolute("phi", axis=(0, 0, 1), actuated=False), mass=m_p,
-                    com=(0, l, 0))
+    system.add_body(
+        "pole",
+        parent=cart,
+        joint=eg.Revolute("phi", axis=(0, 0, 1), actuated=False),
+        mass=m_p,
+        com=(0, l, 0),
+    )
     return eg.derive(system, method="recursive")
 
 
@@ -48,8 +54,10 @@ def cart_pole_sympy() -> tuple[sp.Matrix, sp.Matrix]:
     Q = P.locatenew("Q", l * B.y)
     Q.v2pt_theory(P, N, B)
     km = me.KanesMethod(N, q_ind=[q1, q2], u_ind=[u1, u2], kd_eqs=[q1.diff() - u1, q2.diff() - u2])
-    km.kanes_equations([me.Particle("cart", P, m_c), me.Particle("pole", Q, m_p)],
-                       [(P, F * N.x - m_c * g * N.y), (Q, -m_p * g * N.y)])
+    km.kanes_equations(
+        [me.Particle("cart", P, m_c), me.Particle("pole", Q, m_p)],
+        [(P, F * N.x - m_c * g * N.y), (Q, -m_p * g * N.y)],
+    )
     A, B, _ = km.linearize(op_point={q1: 0, q2: 0, u1: 0, u2: 0}, A_and_B=True)
     return A, B
 
@@ -88,6 +96,7 @@ def test_lqr_from_the_linearization_holds_the_pole_up():
 
     def rhs(t, x, gain):
         return np.r_[x[2:], f.forward_dynamics(x[:2], x[2:], -gain @ x)]
+
     x0 = np.array([0, 0.2, 0, 0])
     held = solve_ivp(rhs, (0, 10), x0, args=(K,), rtol=1e-10, atol=1e-10)
     assert held.success and np.abs(held.y[:, -1]).max() < 1e-2
@@ -101,11 +110,14 @@ def pendulum(motor: bool = False):
     a torque T on it (a load parameter); with `motor` a DC motor drives the joint instead."""
     m, T = sp.symbols("m T", positive=True)
     system = eg.System(gravity=(0, -g, 0))
-    body = system.add_body("bob", joint=eg.Revolute("th", axis=(0, 0, 1), actuated=False), mass=m, com=(0, -l, 0))
+    body = system.add_body(
+        "bob", joint=eg.Revolute("th", axis=(0, 0, 1), actuated=False), mass=m, com=(0, -l, 0)
+    )
     if motor:
         R, Lm, k, J, f, N = sp.symbols("R L_m k J_m f N", positive=True)
-        system.add_motor(body, resistance=R, inductance=Lm, torque_constant=k, rotor_inertia=J, friction=f,
-                         gear_ratio=N)
+        system.add_motor(
+            body, resistance=R, inductance=Lm, torque_constant=k, rotor_inertia=J, friction=f, gear_ratio=N
+        )
     else:
         system.add_torque(body, (0, 0, T), name="torque")
     return eg.derive(system, method="recursive")
@@ -118,50 +130,92 @@ def test_pendulum_load_and_model_parameters_as_inputs(symbolic):
     eom = pendulum()
     values = {"m": 1.3, "l": 0.8, "g": 9.81, "T": 0.5}
     th, thd = 0.6, 0.4
-    L = eg.linearize(eom, (np.array([th]), [thd]), inputs=["T", "g", "l", "m"],
-                     params=None if symbolic else values, symbolic=symbolic)
+    L = eg.linearize(
+        eom,
+        (np.array([th]), [thd]),
+        inputs=["T", "g", "l", "m"],
+        params=None if symbolic else values,
+        symbolic=symbolic,
+    )
     m, T = sp.symbols("m T", positive=True)
     s, c = sp.sin(th), sp.cos(th)
     A = sp.Matrix([[0, 1], [-g * c / l, 0]])
-    B = sp.Matrix([[0, 0, 0, 0], [1 / (m * l**2), -s / l, g * s / l**2 - 2 * T / (m * l**3), -T / (m**2 * l**2)]])
+    B = sp.Matrix(
+        [[0, 0, 0, 0], [1 / (m * l**2), -s / l, g * s / l**2 - 2 * T / (m * l**3), -T / (m**2 * l**2)]]
+    )
     xdot0 = sp.Matrix([thd, (T - m * g * l * s) / (m * l**2)])
     at = {sp.Symbol(k, positive=True): v for k, v in values.items()}
     if symbolic:
         assert equal(L.A, A) and equal(L.B, B) and equal(L.xdot0, xdot0) and L.r0 == sp.Matrix([T, g, l, m])
     for got, want in ((L.A, A), (L.B, B), (L.xdot0, xdot0)):
-        np.testing.assert_allclose(np.array(sp.Matrix(got).subs(at), dtype=float).reshape(np.shape(want)),
-                                   np.array(want.subs(at), dtype=float), rtol=1e-13, atol=1e-15)
+        np.testing.assert_allclose(
+            np.array(sp.Matrix(got).subs(at), dtype=float).reshape(np.shape(want)),
+            np.array(want.subs(at), dtype=float),
+            rtol=1e-13,
+            atol=1e-15,
+        )
 
 
 def test_dc_motor_voltage_input():
-    """State [θ, θ̇, i]: (m l² + N² J_m) θ̈ = N k i − N² f θ̇ − m g l sin θ, L di/dt = U − R i − k N θ̇ by hand;
-    the input U_motor_th gives B = [0, 0, 1/L]; ẋ0 equals the generated motor_rhs."""
+    """State [θ, θ̇, i]: (m l² + N² J_m) θ̈ = N k i − N² f θ̇ − m g l sin θ, L di/dt = U − R i − k N θ̇ by
+    hand; the input U_motor_th gives B = [0, 0, 1/L]; ẋ0 equals the generated rhs."""
     eom = pendulum(motor=True)
-    values = {"m": 1.3, "l": 0.8, "g": 9.81, "R": 2.0, "L_m": 0.05, "k": 0.3, "J_m": 0.01, "f": 0.02, "N": 5.0,
-              "U_motor_th": 1.5}
+    values = {
+        "m": 1.3,
+        "l": 0.8,
+        "g": 9.81,
+        "R": 2.0,
+        "L_m": 0.05,
+        "k": 0.3,
+        "J_m": 0.01,
+        "f": 0.02,
+        "N": 5.0,
+        "U_motor_th": 1.5,
+    }
     th, thd, i = 0.6, 0.4, 0.7
     L = eg.linearize(eom, {"th": th, "thdot": thd, "i_motor_th": i}, inputs="U_motor_th", params=values)
     v = values
     J = v["m"] * v["l"] ** 2 + v["N"] ** 2 * v["J_m"]
-    A = [[0, 1, 0],
-         [-v["m"] * v["g"] * v["l"] * np.cos(th) / J, -v["N"] ** 2 * v["f"] / J, v["N"] * v["k"] / J],
-         [0, -v["k"] * v["N"] / v["L_m"], -v["R"] / v["L_m"]]]
+    A = [
+        [0, 1, 0],
+        [-v["m"] * v["g"] * v["l"] * np.cos(th) / J, -v["N"] ** 2 * v["f"] / J, v["N"] * v["k"] / J],
+        [0, -v["k"] * v["N"] / v["L_m"], -v["R"] / v["L_m"]],
+    ]
     np.testing.assert_allclose(L.A, A, rtol=1e-13, atol=1e-15)
     np.testing.assert_allclose(L.B, [[0], [0], [1 / v["L_m"]]], rtol=1e-14, atol=1e-15)
     assert L.states == ("th", "thdot", "i_motor_th") and L.inputs == ("U_motor_th",)
     f = eg.codegen(eom)
-    np.testing.assert_allclose(L.xdot0, f.motor_rhs(0, [th, thd, i], params=values), rtol=1e-13)
+    np.testing.assert_allclose(L.xdot0, f.rhs(0, [th, thd, i], params=values), rtol=1e-13)
 
 
 def floating_system() -> eg.System:
     """A free-flyer base (quaternion), a ball joint (quaternion) and a planar joint: every group."""
     s = eg.System(gravity=(0, 0, -9.81))
-    base = s.add_body("base", joint=eg.FreeFlyer("root"), mass=2.0, com=(0.1, 0.2, 0.3),
-                      inertia=sp.Matrix([[0.3, 0.01, 0.02], [0.01, 0.4, 0.03], [0.02, 0.03, 0.5]]))
-    arm = s.add_body("arm", parent=base, joint=eg.Spherical("ball"), mass=0.7, com=(0.2, 0, 0.1),
-                     inertia=sp.diag(0.1, 0.2, 0.15), placement=eg.Placement(translation=(0.3, -0.1, 0.2)))
-    s.add_body("tip", parent=arm, joint=eg.Planar("pl"), mass=0.4, com=(0.1, 0.05, 0),
-               inertia=sp.diag(0.01, 0.02, 0.03), placement=eg.Placement(translation=(0.2, 0, 0)))
+    base = s.add_body(
+        "base",
+        joint=eg.FreeFlyer("root"),
+        mass=2.0,
+        com=(0.1, 0.2, 0.3),
+        inertia=sp.Matrix([[0.3, 0.01, 0.02], [0.01, 0.4, 0.03], [0.02, 0.03, 0.5]]),
+    )
+    arm = s.add_body(
+        "arm",
+        parent=base,
+        joint=eg.Spherical("ball"),
+        mass=0.7,
+        com=(0.2, 0, 0.1),
+        inertia=sp.diag(0.1, 0.2, 0.15),
+        placement=eg.Placement(translation=(0.3, -0.1, 0.2)),
+    )
+    s.add_body(
+        "tip",
+        parent=arm,
+        joint=eg.Planar("pl"),
+        mass=0.4,
+        com=(0.1, 0.05, 0),
+        inertia=sp.diag(0.01, 0.02, 0.03),
+        placement=eg.Placement(translation=(0.2, 0, 0)),
+    )
     return s
 
 
@@ -188,6 +242,7 @@ def test_quaternion_and_planar_joints_against_finite_differences_along_integrate
             at = eg.integrate(system, q0, x[:nv], 1.0)
             rate = derivative(lambda t: eg.difference(system, q0, eg.integrate(system, at, x[nv:], t)))
             return np.r_[rate, f.forward_dynamics(at, x[nv:], tau)]
+
         x0 = np.r_[np.zeros(nv), u0]
         A = np.column_stack([derivative(lambda t: xdot(x0 + t * e, tau0)) for e in np.eye(2 * nv)])
         B = np.column_stack([derivative(lambda t: xdot(x0, tau0 + t * e)) for e in np.eye(len(tau0))])
@@ -205,22 +260,33 @@ def test_quaternion_and_planar_joints_against_finite_differences_along_integrate
 def test_bad_input():
     eom = cart_pole()
     zero = (np.zeros(2), np.zeros(2))
-    with pytest.raises(eg.ModelError, match="linearize: inputs: unknown input 'tau_phi'; the inputs are the "
-                                            r"actuated efforts \['tau_x'\] and the parameters \['g', 'l'"):
+    with pytest.raises(
+        eg.ModelError,
+        match="linearize: inputs: unknown input 'tau_phi'; the inputs are the "
+        r"actuated efforts \['tau_x'\] and the parameters \['g', 'l'",
+    ):
         eg.linearize(eom, zero, inputs=["tau_phi"], params=CART_POLE)
     with pytest.raises(eg.ModelError, match="linearize: inputs: 'g' is named twice"):
         eg.linearize(eom, zero, inputs=["g", "g"], params=CART_POLE)
-    with pytest.raises(eg.ModelError, match=r"op_point: q0 \(the coordinates\): expected 2 values, got shape"):
+    with pytest.raises(
+        eg.ModelError, match=r"op_point: q0 \(the coordinates\): expected 2 values, got shape"
+    ):
         eg.linearize(eom, (np.zeros(3), np.zeros(2)), params=CART_POLE)
-    with pytest.raises(eg.ModelError, match=r"op_point: the speeds \['xdot', 'phidot'\] .*: expected 2 values"):
+    with pytest.raises(
+        eg.ModelError, match=r"op_point: the speeds \['xdot', 'phidot'\] .*: expected 2 values"
+    ):
         eg.linearize(eom, (np.zeros(2), np.zeros(1)), params=CART_POLE)
-    with pytest.raises(eg.ModelError, match=r"op_point: unknown names \['theta'\]; coordinates missing: \['phi'\]"):
+    with pytest.raises(
+        eg.ModelError, match=r"op_point: unknown names \['theta'\]; coordinates missing: \['phi'\]"
+    ):
         eg.linearize(eom, {"x": 0, "theta": 0}, params=CART_POLE)
     with pytest.raises(eg.ModelError, match="op_point: q0 .*: values must be finite"):
         eg.linearize(eom, ([0, np.nan], [0, 0]), params=CART_POLE)
     with pytest.raises(eg.ModelError, match="op_point: expected .q0, speeds"):
         eg.linearize(eom, np.zeros(4), params=CART_POLE)
-    with pytest.raises(eg.ModelError, match=r"params: values missing for the parameters \['l', 'm_c', 'm_p'\]"):
+    with pytest.raises(
+        eg.ModelError, match=r"params: values missing for the parameters \['l', 'm_c', 'm_p'\]"
+    ):
         eg.linearize(eom, zero)
     with pytest.raises(eg.ModelError, match=r"params: expected a mapping \{name: value\}, got list"):
         eg.linearize(eom, zero, params=[1.0, 0.3, 0.7, 9.81])
@@ -228,19 +294,26 @@ def test_bad_input():
         eg.linearize(eom, zero, params={**CART_POLE, "mass": 1})
     with pytest.raises(eg.ModelError, match="independent: the system has no contacts, loops or rolling"):
         eg.linearize(eom, zero, params=CART_POLE, independent=["x"])
-    with pytest.raises(eg.ModelError, match="linearize: expected EquationsOfMotion or KaneEquations, got System"):
+    with pytest.raises(
+        eg.ModelError, match="linearize: expected EquationsOfMotion or KaneEquations, got System"
+    ):
         eg.linearize(eom.system, zero)
     with pytest.raises(eg.ModelError, match=r"the equations have only \['g'\]: derive M, b and g"):
         eg.linearize(eg.derive(eom.system, quantities=("g",)), zero)
     motor = pendulum(motor=True)
     with pytest.raises(eg.ModelError, match="inputs: 'i_motor_th' is a motor current, a state"):
         eg.linearize(motor, ([0], [0]), inputs=["i_motor_th"])
-    with pytest.raises(eg.ModelError, match=r"params: \['i_motor_th'\] are motor currents, part of the state"):
+    with pytest.raises(
+        eg.ModelError, match=r"params: \['i_motor_th'\] are motor currents, part of the state"
+    ):
         eg.linearize(motor, ([0], [0]), params={"i_motor_th": 1.0})
     big = eg.derive(floating_system(), method="recursive")
     with pytest.raises(eg.ModelError, match="24 states: symbolic=True is for at most 12"):
-        eg.linearize(big, (eg.random_states(big.system, 1, np.random.default_rng(0))[0][0], np.zeros(12)),
-                     symbolic=True)
+        eg.linearize(
+            big,
+            (eg.random_states(big.system, 1, np.random.default_rng(0))[0][0], np.zeros(12)),
+            symbolic=True,
+        )
     L = eg.linearize(eom, zero, params=CART_POLE)
     eom.system.add_body("extra", parent="pole", joint=eg.Revolute("extra"), mass=1, inertia=sp.eye(3))
     with pytest.raises(eg.ModelError, match="the system changed after these equations were derived"):

@@ -6,6 +6,7 @@ differences of eg.reduce; the rolling disk (Kane's, nonholonomic, and
 as equations of motion with add_rolling) about upright rolling against its hand linearization, symbolic in
 the spin rate, the eigenvalues' real parts crossing zero at ω² = g/(3R); the Whipple bicycle's published
 eigenvalues, weave and capsize speeds (tests/test_bicycle.py) without finite differences."""
+
 import sys
 from pathlib import Path
 
@@ -29,7 +30,8 @@ def four_bar_by_hand(theta0: float, rate: float) -> tuple[np.ndarray, np.ndarray
     """A, B (input: a torque on the crank) of J(θ) θ̈ + ½ J'(θ) θ̇² + V'(θ) = τ + τ_load, the crank angle θ:
     the pose by circle intersection (K.four_bar_pose) in sympy, J = Σ m |∂G/∂θ|² + I (∂a/∂θ)², V = Σ m g y_G
     (their derivatives in θ by mpmath);
-    θ̈ = (τ + τ_load − ½ J' θ̇² − V')/J, ∂θ̈/∂θ̇ = −J' θ̇/J, ∂θ̈/∂θ = (−½ J'' θ̇² − V'' − J' θ̈)/J, B = 1/J."""
+    θ̈ = (τ + τ_load − ½ J' θ̇² − V')/J, ∂θ̈/∂θ̇ = −J' θ̇/J, ∂θ̈/∂θ = (−½ J'' θ̇² − V'' − J' θ̈)/J, B = 1/J.
+    """
     t = sp.Symbol("theta")
     b = {k: sp.Float(v) for k, v in K.BAR.items()}
     P1, P3 = b["l1"] * sp.Matrix([sp.cos(t), sp.sin(t)]), sp.Matrix([b["d"], 0])
@@ -50,7 +52,9 @@ def four_bar_by_hand(theta0: float, rate: float) -> tuple[np.ndarray, np.ndarray
     J0, J1, J2 = (float(mpmath.diff(J, mpmath.mpf(theta0), k)) for k in range(3))
     V1, V2 = (float(mpmath.diff(V, mpmath.mpf(theta0), k)) for k in (1, 2))
     acceleration = (b["tau"] - J1 * rate**2 / 2 - V1) / J0
-    A = np.array([[0, 1], [(-J2 * rate**2 / 2 - V2 - J1 * acceleration) / J0, -J1 * rate / J0]], dtype=float)
+    A = np.array(
+        [[0, 1], [(-J2 * rate**2 / 2 - V2 - J1 * acceleration) / J0, -J1 * rate / J0]], dtype=float
+    )
     return A, np.array([[0], [1 / J0]])
 
 
@@ -65,9 +69,13 @@ def four_bar_loop() -> eg.EquationsOfMotion:
 
 def derivative(function, x0, h=1e-4) -> np.ndarray:
     """∂function/∂x at x0, fourth-order central differences."""
+
     def along(e):
-        return (8 * (function(x0 + h * e) - function(x0 - h * e)) - (function(x0 + 2 * h * e)
-                                                                      - function(x0 - 2 * h * e))) / (12 * h)
+        return (
+            8 * (function(x0 + h * e) - function(x0 - h * e))
+            - (function(x0 + 2 * h * e) - function(x0 - 2 * h * e))
+        ) / (12 * h)
+
     return np.column_stack([along(e) for e in np.eye(len(x0))])
 
 
@@ -75,16 +83,17 @@ def derivative(function, x0, h=1e-4) -> np.ndarray:
 def test_four_bar_kane_and_loop_equal_hand_and_differences(theta0, rate):
     """x = [q1, q̇1] (q2, q3 dependent): Kane's equations with holonomic constraints and the equations of
     motion with a loop give the same A, B (Kane's also in the links' absolute rates), equal to the hand
-    closed form to 1e-9 and to differences of
-    Kane's generated rhs (q2, q3 assembled) to 1e-8; ∂ẋ/∂d (the pin's distance, a parameter of the loop)
-    equals differences of the reduced forward dynamics with q assembled for d ± h."""
+    closed form to 1e-9 and to differences of Kane's generated rhs (q2, q3 assembled; with the crank's
+    effort) to 1e-8; ∂ẋ/∂d (the pin's distance, a parameter of the loop) equals differences of the reduced
+    forward dynamics with q assembled for d ± h."""
     system, args = K.four_bar()
     kane = eg.kane(system, **args)
     q0 = np.array(K.four_bar_pose(theta0))
     by_kane = eg.linearize(kane, (q0, [rate]), inputs=["tau_q1"])
     loop = four_bar_loop()
-    by_loop = eg.linearize(loop, (q0, [rate]), inputs=["tau_q1", "d"], independent=["q1"],
-                           params={"d": K.BAR["d"]})
+    by_loop = eg.linearize(
+        loop, (q0, [rate]), inputs=["tau_q1", "d"], independent=["q1"], params={"d": K.BAR["d"]}
+    )
     assert by_kane.states == by_loop.states == ("q1", "q1dot")
     A, B = four_bar_by_hand(theta0, rate)
     np.testing.assert_allclose(by_kane.A, A, rtol=1e-9, atol=1e-9)
@@ -97,10 +106,15 @@ def test_four_bar_kane_and_loop_equal_hand_and_differences(theta0, rate):
     np.testing.assert_allclose(by_loop.B[:, :1], by_kane.B, rtol=1e-11)
     f = eg.codegen(kane)
 
-    def rhs(x):
+    def rhs(x, tau=(0.0, 0.0, 0.0)):
         q = f.assemble(np.r_[x[0], K.four_bar_pose(x[0])[1:]] + [0, 1e-3, -1e-3])
-        return f.rhs(0, np.r_[q, x[1]])[[0, 3]]
-    np.testing.assert_allclose(by_kane.A, derivative(rhs, np.array([theta0, rate])), rtol=1e-8, atol=1e-8)
+        return f.rhs(0, np.r_[q, x[1]], tau)[[0, 3]]
+
+    x0 = np.array([theta0, rate])
+    np.testing.assert_allclose(by_kane.A, derivative(rhs, x0), rtol=1e-8, atol=1e-8)
+    np.testing.assert_allclose(
+        by_kane.B, derivative(lambda t: rhs(x0, [t[0], 0, 0]), np.zeros(1)), rtol=1e-8
+    )
     g = eg.codegen(loop)
     reduced = eg.reduce(g, ["q1"])
 
@@ -108,6 +122,7 @@ def test_four_bar_kane_and_loop_equal_hand_and_differences(theta0, rate):
         params = {"d": x[0]}
         q = eg.assemble(g, q0, fixed=["q1"], params=params)
         return np.r_[rate, reduced.forward_dynamics(q, [rate], params=params)[0]]
+
     np.testing.assert_allclose(by_loop.B[:, 1:], derivative(along_d, np.array([K.BAR["d"]])), rtol=1e-7)
 
 
@@ -118,9 +133,15 @@ def test_contact_rows_against_differences_of_reduce():
     system = eg.System(gravity=(0, -9.81, 0))
     parent, at = None, 0.0
     for i, (length, mass) in enumerate([(0.5, 1.0), (0.4, 0.8), (0.3, 0.5)], 1):
-        parent = system.add_body(f"link{i}", parent=parent, joint=eg.Revolute(f"th{i}"), mass=mass,
-                                 com=(length / 2, 0, 0), inertia=sp.diag(0, 1, 1) * mass * length**2 / 12,
-                                 placement=eg.Placement(translation=(at, 0, 0)))
+        parent = system.add_body(
+            f"link{i}",
+            parent=parent,
+            joint=eg.Revolute(f"th{i}"),
+            mass=mass,
+            com=(length / 2, 0, 0),
+            inertia=sp.diag(0, 1, 1) * mass * length**2 / 12,
+            placement=eg.Placement(translation=(at, 0, 0)),
+        )
         at = length
     system.add_frame("tip", parent, eg.Placement(translation=(at, 0, 0)))
     system.add_contact("tip")
@@ -133,6 +154,7 @@ def test_contact_rows_against_differences_of_reduce():
     def xdot(x, tau=tau0):
         q, u = x[:3], x[3:]
         return np.r_[reduced.R(q) @ u, reduced.forward_dynamics(q, u, tau)[0]]
+
     x0 = np.r_[q0, 0.7]
     np.testing.assert_allclose(L.A, derivative(xdot, x0), rtol=1e-8, atol=1e-8)
     np.testing.assert_allclose(L.B, derivative(lambda t: xdot(x0, t), tau0), rtol=1e-8, atol=1e-8)
@@ -140,9 +162,9 @@ def test_contact_rows_against_differences_of_reduce():
 
 
 def disk_by_hand(w, g, R) -> sp.Matrix:
-    """Upright rolling along x at spin rate w (axle y; I = m R²/4, J = m R²/2), x = (x, y, yaw ψ, lean φ, spin,
-    their independent rates ψ̇, φ̇, θ̇): the contact point moves at R θ̇ along the heading and the centre is
-    R above it in the lean frame, so ẋ = R θ̇, ẏ = R w ψ − R φ̇; I ψ̈ = −J w φ̇ (ψ̈ = −2 w φ̇);
+    """Upright rolling along x at spin rate w (axle y; I = m R²/4, J = m R²/2), x = (x, y, yaw ψ, lean φ,
+    spin, their independent rates ψ̇, φ̇, θ̇): the contact point moves at R θ̇ along the heading and the
+    centre is R above it in the lean frame, so ẋ = R θ̇, ẏ = R w ψ − R φ̇; I ψ̈ = −J w φ̇ (ψ̈ = −2 w φ̇);
     (I + m R²) φ̈ = m g R φ + (J + m R²) w ψ̇ (φ̈ = 4 g φ/(5 R) + 6 w ψ̇/5); θ̈ = 0."""
     A = sp.zeros(8, 8)
     A[0, 7], A[1, 2], A[1, 6] = R, R * w, -R
@@ -152,21 +174,27 @@ def disk_by_hand(w, g, R) -> sp.Matrix:
 
 
 def test_rolling_disk_in_new_speeds_against_differences():
-    """The disk in the speeds of tests/test_rolling_disk.py (ẋ, ẏ, ż, ψ̇, φ̇ and ω along the axle, θ̇ + ψ̇ sin φ:
-    kinematic equations, u = −Y⁻¹ (K w + k0) depends on q) at a leaning, turning state: A equals
-    differences of the generated rhs (z assembled) to 1e-8, ẋ0 the rhs."""
+    """The disk in the speeds of tests/test_rolling_disk.py (ẋ, ẏ, ż, ψ̇, φ̇ and ω along the axle,
+    θ̇ + ψ̇ sin φ: kinematic equations, u = −Y⁻¹ (K w + k0) depends on q) at a leaning, turning state: A
+    equals differences of the generated rhs (z assembled) to 1e-8, ẋ0 the rhs."""
     system, _ = disk.rolling_disk()
     w = sp.symbols("w1:7")
     u, lean = system.u, system.q[4]
     kinematic = [w[i] - u[i] for i in range(5)] + [w[5] - u[5] - u[3] * sp.sin(lean)]
-    k = eg.kane(system, speeds=w, kinematic_equations=kinematic, dependent_coordinates=[system.q[2]],
-                independent=w[3:])
+    k = eg.kane(
+        system,
+        speeds=w,
+        kinematic_equations=kinematic,
+        dependent_coordinates=[system.q[2]],
+        independent=w[3:],
+    )
     f, v = eg.codegen(k), disk.VALUES
     x0 = np.array([0.1, -0.2, 0.4, 0.3, 0.5, 0.7, -0.4, 5.0])  # x, y, yaw, lean, spin, w4, w5, w6
 
     def xdot(x):
         q = f.assemble(np.r_[x[:2], v["R"], x[2:5]], v)
-        return f.rhs(0, np.r_[q, x[5:]], v)[[0, 1, 3, 4, 5, 6, 7, 8]]
+        return f.rhs(0, np.r_[q, x[5:]], params=v)[[0, 1, 3, 4, 5, 6, 7, 8]]
+
     L = eg.linearize(k, (f.assemble(np.r_[x0[:2], v["R"], x0[2:5]], v), x0[5:]), inputs=[], params=v)
     assert L.states == ("x", "y", "yaw", "lean", "spin", "w4", "w5", "w6") and L.B.shape == (8, 0)
     np.testing.assert_allclose(L.A, derivative(xdot, x0), rtol=1e-8, atol=1e-8)
@@ -176,7 +204,8 @@ def test_rolling_disk_in_new_speeds_against_differences():
 def test_rolling_disk_symbolic_equals_hand():
     """Kane's equations of the disk (examples/rolling_disk.py) linearized in closed form, the spin rate a
     symbol: A equals the hand linearization; x = (x, y, yaw, lean, spin, yawdot, leandot, spindot); the same
-    from the equations of motion with add_rolling (z the coordinate the height fixes, chosen by pivoting)."""
+    from the equations of motion with add_rolling (z the coordinate the height fixes, chosen by pivoting).
+    """
     system, k = disk.rolling_disk()
     w, R, g = sp.Symbol("omega", real=True), sp.Symbol("R", positive=True), sp.Symbol("g", positive=True)
     L = eg.linearize(k, {**dict.fromkeys(map(str, system.q), 0), "z": R, "spindot": w}, symbolic=True)
@@ -184,8 +213,12 @@ def test_rolling_disk_symbolic_equals_hand():
     assert L.A == disk_by_hand(w, g, R) and L.B.shape == (8, 6)
     assert L.xdot0 == sp.Matrix([R * w, 0, 0, 0, w, 0, 0, 0])
     eom = eg.derive(system, method="recursive")
-    by_eom = eg.linearize(eom, {**dict.fromkeys(map(str, system.q), 0), "z": R, "spindot": w},
-                          independent=["yaw", "lean", "spin"], symbolic=True)
+    by_eom = eg.linearize(
+        eom,
+        {**dict.fromkeys(map(str, system.q), 0), "z": R, "spindot": w},
+        independent=["yaw", "lean", "spin"],
+        symbolic=True,
+    )
     assert by_eom.A == L.A and by_eom.states == L.states
 
 
@@ -226,6 +259,7 @@ def test_bicycle_published_eigenvalues_and_speeds():
 
     def linearized(v):
         return eg.linearize(k, (q, [0, 0, -v / bike.BENCHMARK["r_R"]]), params=bike.BENCHMARK)
+
     for v in SPEEDS:
         L = linearized(float(v))
         assert np.abs(L.select(block).eigenvalues() - published_eigenvalues(v)).max() < 1e-11, v
@@ -238,9 +272,13 @@ def test_bicycle_published_eigenvalues_and_speeds():
 def test_bad_constrained_input():
     loop = four_bar_loop()
     q0 = np.array(K.four_bar_pose(0.7))
-    with pytest.raises(eg.ModelError, match=r"independent: name the independent speeds .* constraints \['tip-pin.x'"):
+    with pytest.raises(
+        eg.ModelError, match=r"independent: name the independent speeds .* constraints \['tip-pin.x'"
+    ):
         eg.linearize(loop, (q0, [0]), params={"d": 0.45})
-    with pytest.raises(eg.ModelError, match=r"q0 does not satisfy the holonomic constraints .* residuals are"):
+    with pytest.raises(
+        eg.ModelError, match=r"q0 does not satisfy the holonomic constraints .* residuals are"
+    ):
         eg.linearize(loop, (q0 + 0.01, [0]), independent=["q1"], params={"d": 0.45})
     with pytest.raises(eg.ModelError, match="the speeds differ from those the constraints allow"):
         eg.linearize(loop, (q0, [1, 1, 1]), independent=["q1"], params={"d": 0.45})
@@ -248,8 +286,11 @@ def test_bad_constrained_input():
     kane = eg.kane(system, **args)
     with pytest.raises(eg.ModelError, match="independent: Kane's equations fix their independent speeds"):
         eg.linearize(kane, (q0, [0]), independent=["q1"])
-    with pytest.raises(eg.ModelError, match=r"inputs: unknown input 'U'; the inputs are the actuated efforts "
-                                            r"\['tau_q1', 'tau_q2', 'tau_q3'\] and the parameters \[\]"):
+    with pytest.raises(
+        eg.ModelError,
+        match=r"inputs: unknown input 'U'; the inputs are the actuated efforts "
+        r"\['tau_q1', 'tau_q2', 'tau_q3'\] and the parameters \[\]",
+    ):
         eg.linearize(kane, (q0, [0]), inputs=["U"])
     with pytest.raises(eg.ModelError, match=r"q0 does not satisfy the holonomic constraints"):
         eg.linearize(kane, (q0 + 0.01, [0]))

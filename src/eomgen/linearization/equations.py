@@ -109,7 +109,7 @@ class EquationsCase:
     def dynamics(
         self, point: Point, speeds: Dual, efforts: Dual, algebra: Algebra
     ) -> tuple[Dual, Dual, Dual]:
-        """(u, u, u̇_i): the speeds (twice: they are the equations' speeds) and the independent ones' rates."""
+        """(u, u, u̇_i): the speeds (twice: they are the equations' speeds), the independent ones' rates."""
         pieces, nv = self.pieces, len(self.model.every)
         M = pieces.dual("M", point)
         tau_a = Dual(algebra.array(self.model.system.S.T.tolist()).reshape(nv, -1)) @ efforts
