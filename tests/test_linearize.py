@@ -190,32 +190,15 @@ def test_dc_motor_voltage_input():
 
 def floating_system() -> eg.System:
     """A free-flyer base (quaternion), a ball joint (quaternion) and a planar joint: every group."""
-    s = eg.System(gravity=(0, 0, -9.81))
-    base = s.add_body(
-        "base",
-        joint=eg.FreeFlyer("root"),
-        mass=2.0,
-        com=(0.1, 0.2, 0.3),
-        inertia=sp.Matrix([[0.3, 0.01, 0.02], [0.01, 0.4, 0.03], [0.02, 0.03, 0.5]]),
-    )
-    arm = s.add_body(
-        "arm",
-        parent=base,
-        joint=eg.Spherical("ball"),
-        mass=0.7,
-        com=(0.2, 0, 0.1),
-        inertia=sp.diag(0.1, 0.2, 0.15),
-        placement=eg.Placement(translation=(0.3, -0.1, 0.2)),
-    )
-    s.add_body(
-        "tip",
-        parent=arm,
-        joint=eg.Planar("pl"),
-        mass=0.4,
-        com=(0.1, 0.05, 0),
-        inertia=sp.diag(0.01, 0.02, 0.03),
-        placement=eg.Placement(translation=(0.2, 0, 0)),
-    )
+    s, parent = eg.System(gravity=(0, 0, -9.81)), None
+    base_inertia = sp.Matrix([[0.3, 0.01, 0.02], [0.01, 0.4, 0.03], [0.02, 0.03, 0.5]])
+    for name, joint, mass, com, inertia, at in [
+        ("base", eg.FreeFlyer("root"), 2.0, (0.1, 0.2, 0.3), base_inertia, (0, 0, 0)),
+        ("arm", eg.Spherical("ball"), 0.7, (0.2, 0, 0.1), sp.diag(0.1, 0.2, 0.15), (0.3, -0.1, 0.2)),
+        ("tip", eg.Planar("pl"), 0.4, (0.1, 0.05, 0), sp.diag(0.01, 0.02, 0.03), (0.2, 0, 0)),
+    ]:
+        parent = s.add_body(name, parent=parent, joint=joint, mass=mass, com=com, inertia=inertia,
+                            placement=eg.Placement(translation=at))
     return s
 
 
