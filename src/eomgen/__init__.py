@@ -7,6 +7,7 @@ from .codegen import codegen, write_c, write_module
 from .eom import EquationsOfMotion
 from .errors import ModelError
 from .kinematics import Kinematics
+from .linearization import Linearization, linearize
 from .methods import derive
 from .methods.kane import KaneEquations, kane
 from .model import (Cylindrical, DHLink, Fixed, FlexibleLink, FreeFlyer, Helical, Placement, Planar, Prismatic,
@@ -24,8 +25,9 @@ from .tradeoff import tradeoff
 from .verify import verify
 
 __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed", "FlexibleLink", "FreeFlyer", "Helical",
-           "Kinematics", "ModelError", "Placement", "Planar", "Prismatic", "Revolute", "Solution", "Spherical", "Step",
+           "Kinematics", "Linearization", "ModelError", "Placement", "Planar", "Prismatic", "Revolute",
+           "Solution", "Spherical", "Step",
            "System", "Translation", "Universal", "assemble", "codegen", "derive", "from_dh", "from_mjcf",
-           "from_urdf", "integrate", "kane", "project", "quiet", "random_states", "reduce", "robots",
+           "from_urdf", "integrate", "kane", "linearize", "project", "quiet", "random_states", "reduce", "robots",
            "difference", "simplified", "simulate", "plot", "animate", "solution",
            "tradeoff", "verify", "write_c", "write_module"]

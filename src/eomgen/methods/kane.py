@@ -194,10 +194,11 @@ class KaneEquations(ClosedForms):
         return self._closed["solution"]
 
 
-def solve_proven(A: sp.Matrix, B: sp.Matrix, what: str) -> sp.Matrix:
+def solve_proven(A: sp.Matrix, B: sp.Matrix, what: str, normal=None) -> sp.Matrix:
     """X with A X = B by Gauss-Jordan elimination, pivoting only on entries proven nonzero
-    (`is_zero is False`: numbers, positive symbols, ...); ModelError naming `what` otherwise."""
-    A, B = A.as_mutable(), B.as_mutable()
+    (`is_zero is False`: numbers, positive symbols, ...); ModelError naming `what` otherwise. `normal`
+    (e.g. sympy's cancel) rewrites the entries of A and B first and after each elimination step."""
+    A, B = ((X.applyfunc(normal) if normal else X).as_mutable() for X in (A, B))
     n = A.rows
     for j in range(n):
         pivot = next((i for i in range(j, n) if A[i, j].is_zero is False), None)
@@ -212,7 +213,9 @@ def solve_proven(A: sp.Matrix, B: sp.Matrix, what: str) -> sp.Matrix:
                 A[i, :] = A[i, :] - factor * A[j, :]
                 B[i, :] = B[i, :] - factor * B[j, :]
                 A[i, j] = 0
-    return sp.Matrix(n, B.cols, lambda i, k: B[i, k] / A[i, i])
+                if normal:
+                    A[i, :], B[i, :] = A[i, :].applyfunc(normal), B[i, :].applyfunc(normal)
+    return sp.Matrix(n, B.cols, lambda i, k: (normal or (lambda e: e))(B[i, k] / A[i, i]))
 
 
 def _linear(exprs, symbols, what: str) -> tuple[sp.Matrix, sp.Matrix]:
