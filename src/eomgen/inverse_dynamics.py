@@ -34,12 +34,21 @@ def inverse_dynamics(eom: EquationsOfMotion) -> sp.Matrix:
     return eom.compact["ID"]
 
 
+def available(eom: EquationsOfMotion) -> bool:
+    """Whether the inverse dynamics can be formed: by the recursion, or from M, b and g."""
+    return not _flexible(eom) or all(k in eom.compact for k in ("M", "b", "g"))
+
+
+def _flexible(eom: EquationsOfMotion) -> bool:
+    return any(isinstance(j, FlexibleLink) for j in eom.system.joints)
+
+
 def _inverse_dynamics(eom: EquationsOfMotion) -> sp.Matrix:
     system = eom.system
-    if not any(isinstance(j, FlexibleLink) for j in system.joints):
+    if not _flexible(eom):
         return recursive.inverse_dynamics(eom.kinematics)
-    missing = [k for k in ("M", "b", "g") if k not in eom.compact]
-    if missing:
+    if not available(eom):
+        missing = [k for k in ("M", "b", "g") if k not in eom.compact]
         raise ModelError(f"inverse dynamics of a system with flexible links is M u̇ + b + g: derive {missing} "
                          "too (quantities=None)")
     return matmul(eom.compact["M"], system.ud) + eom.compact["b"] + eom.compact["g"]
