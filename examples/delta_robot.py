@@ -67,7 +67,7 @@ def main() -> None:
         print("  shoulder torques holding it still (g_r):", np.round(reduced.g(q), 6))
     q0 = eg.assemble(f, guess([0.3, 0.3, 0.3]), fixed=SHOULDERS)
     hold = reduced.g(q0)
-    sim = eg.simulate(f, (q0, np.zeros(12)), (0, 1), tau_a=hold)
+    sim = eg.simulate(f, (q0, np.zeros(12)), (0, 1), tau=hold)
     print(f"1 s with the holding torques: platform moved {np.linalg.norm(sim.q[-1, :3] - q0[:3]):.1e} m; "
           f"max ‖r‖ {sim.closure_drift.max():.1e}, max ‖J_c u‖ {sim.velocity_drift.max():.1e}")
 

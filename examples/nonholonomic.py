@@ -85,7 +85,7 @@ def main() -> None:
     system, args = rolling_disk()
     f = eg.codegen(eg.kane(system, **args))
     p = {"m": 1.3, "R": 0.3, "g": 9.81}
-    sol = solve_ivp(lambda t, x: f.rhs(t, x, p), (0, 10), [0, 0, 0.2, 0, 0.5, 4.0], method="DOP853",
+    sol = solve_ivp(lambda t, x: f.rhs(t, x, params=p), (0, 10), [0, 0, 0.2, 0, 0.5, 4.0], method="DOP853",
                     rtol=1e-12, atol=1e-12)
     x, y, theta, phi, theta_d, phi_d = sol.y[:, -1]
     print(f"\nrolling disk after 10 s: x = {x:.4f}, y = {y:.4f}, heading {theta:.4f}, spin rate {phi_d:.4f} "

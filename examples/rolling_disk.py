@@ -44,7 +44,7 @@ def roll(f, factor: float, lean: float = 0.02, seconds: float = 6.0, values: dic
     x0 = np.r_[q, 0.0, 0.0, factor * critical_spin(values)]
     fell = lambda t, x: abs(x[LEAN]) - 1.0  # noqa: E731
     fell.terminal = True
-    return solve_ivp(lambda t, x: f.rhs(t, x, values), (0, seconds), x0, method="DOP853", rtol=1e-10,
+    return solve_ivp(lambda t, x: f.rhs(t, x, params=values), (0, seconds), x0, method="DOP853", rtol=1e-10,
                      atol=1e-10, events=fell, max_step=0.05)
 
 

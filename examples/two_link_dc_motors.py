@@ -41,7 +41,7 @@ def simulate(seconds: float = 1.0):
 
     def rhs(t, x):
         state, i = x[:-1], x[4:6]
-        d = fn.motor_rhs(t, state, NUMBERS)
+        d = fn.rhs(t, state, params=NUMBERS)
         qd = state[2:4]
         p = {k_: NUMBERS[k_] for k_ in ("R", "f", "N")}
         losses = sum(p["R"] * c**2 + p["f"] * (p["N"] * qd[m.body.index]) ** 2 for m, c in zip(motors, i))

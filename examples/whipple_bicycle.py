@@ -100,7 +100,7 @@ def accelerations(f, values: dict = BENCHMARK):
     def at(x, v):
         phi, delta, phid, deltad = x
         q = f.assemble(np.array([0, 0, -values["r_R"], 0, 0, phi, 0, delta, 0]), values)
-        return f.rhs(0.0, np.r_[q, phid, deltad, -v / values["r_R"]], values)[-3:-1]
+        return f.rhs(0.0, np.r_[q, phid, deltad, -v / values["r_R"]], params=values)[-3:-1]
     return at
 
 

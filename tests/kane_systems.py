@@ -57,7 +57,12 @@ def particle_sympy():
     return km, [x, y, z], [ux, uy]
 
 
-def rolling_disk_sympy(torques=False):
+F_x, F_y = sp.symbols("F_x F_y")
+
+
+def rolling_disk_sympy(torques=False, forces=False):
+    """torques: the drive τ_d about the axle (reaction on the heading frame) and the steer τ_s about the
+    vertical; forces: F_x, F_y on the centre along the ground's axes."""
     x, y, th, ph = me.dynamicsymbols("x y theta phi")
     ux, uy, uth, uph = me.dynamicsymbols("xdot ydot thetadot phidot")
     N = me.ReferenceFrame("N")
@@ -71,6 +76,8 @@ def rolling_disk_sympy(torques=False):
     loads = [(G, -m * g * N.z)]
     if torques:
         loads += [(D, tau_d * A.y), (A, -tau_d * A.y + tau_s * N.z)]
+    if forces:
+        loads[0] = (G, -m * g * N.z + F_x * N.x + F_y * N.y)
     km = me.KanesMethod(N, q_ind=[x, y, th, ph], u_ind=[uth, uph], u_dependent=[ux, uy],
                         kd_eqs=[x.diff() - ux, y.diff() - uy, th.diff() - uth, ph.diff() - uph],
                         velocity_constraints=[ux - R * uph * sp.cos(th), uy - R * uph * sp.sin(th)])

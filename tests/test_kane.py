@@ -113,8 +113,9 @@ def test_rotation_block_finite_at_zero():
         np.testing.assert_allclose(f.dependent_speeds(q[0], w[0], given(f)), expected[0],
                                    rtol=1e-14, atol=1e-14)
         x = np.c_[q, w]
-        assert np.all(np.isfinite(f.rhs(0, x, given(f)))) and np.all(np.isfinite(f.rhs(0, x[0], given(f))))
-        np.testing.assert_allclose(f.rhs(0, x, given(f))[3], f.rhs(0, x[3], given(f)), rtol=1e-13)
+        p = given(f)
+        assert np.all(np.isfinite(f.rhs(0, x, params=p))) and np.all(np.isfinite(f.rhs(0, x[0], params=p)))
+        np.testing.assert_allclose(f.rhs(0, x, params=p)[3], f.rhs(0, x[3], params=p), rtol=1e-13)
 
 
 def test_elementary_functions_in_constraints():
@@ -144,8 +145,9 @@ def test_parameter_only_in_a_constraint():
     with pytest.raises(eg.ModelError, match=r"values missing for the parameters \['b'\]"):
         f.dependent_speeds(q, w, {k: v for k, v in given(f).items() if k != "b"})
     bound = eg.codegen(k, params={**given(f), "b": 1.6})
-    np.testing.assert_array_equal(bound.rhs(0, np.r_[q, w]), f.rhs(0, np.r_[q, w], {**given(f), "b": 1.6}))
-    one, two = (f.rhs(0, np.r_[q, w], {**given(f), "b": b}) for b in (0.8, 1.6))
+    np.testing.assert_array_equal(bound.rhs(0, np.r_[q, w]),
+                                  f.rhs(0, np.r_[q, w], params={**given(f), "b": 1.6}))
+    one, two = (f.rhs(0, np.r_[q, w], params={**given(f), "b": b}) for b in (0.8, 1.6))
     np.testing.assert_allclose(f.dependent_speeds(q, w, {**given(f), "b": 1.6}),
                                2 * f.dependent_speeds(q, w, given(f)))
     assert not np.allclose(one, two)
@@ -160,10 +162,10 @@ def test_bicycle_five_constraints():
     f = eg.codegen(k)
     p = {"m_b": 85.0, "g": 9.81}
     x0 = np.r_[np.zeros(system.nq), 0.05, 15.0, 0.02]  # upright; roll rate, rear spin, steer rate
-    assert np.all(np.isfinite(f.rhs(0, x0, p)))
+    assert np.all(np.isfinite(f.rhs(0, x0, params=p)))
     np.testing.assert_allclose(f.qdot(x0[:8], x0[8:], p)[[0, 1, 4]], [4.5, 0, 0], atol=1e-12)
-    sol = solve_ivp(lambda t, x: f.rhs(t, x, p), (0, 1.0), x0, method="DOP853", rtol=1e-12, atol=1e-12,
-                    t_eval=np.linspace(0, 1.0, 11))
+    sol = solve_ivp(lambda t, x: f.rhs(t, x, params=p), (0, 1.0), x0, method="DOP853", rtol=1e-12,
+                    atol=1e-12, t_eval=np.linspace(0, 1.0, 11))
     assert sol.success
     eom = eg.codegen(k.eom)
     constraint = sp.lambdify([list(system.q), list(system.u), [K.m_b, K.g_b]], args["nonholonomic"])
@@ -216,7 +218,7 @@ def test_simulation_keeps_constraints_and_energy(case, backend, tmp_path, monkey
         x0 = np.r_[0.1, -0.2, 0.3, 1.2, 0.8]  # q, then (speed along the runner, turning rate)
     else:
         x0 = np.r_[0.0, 0.0, 0.2, 0.0, 0.5, 4.0]  # q, then (heading rate, spin rate)
-    sol = solve_ivp(lambda t, x: f.rhs(t, x, p), (0, 10), x0, method="DOP853", rtol=1e-12, atol=1e-12,
+    sol = solve_ivp(lambda t, x: f.rhs(t, x, params=p), (0, 10), x0, method="DOP853", rtol=1e-12, atol=1e-12,
                     t_eval=np.linspace(0, 10, 101))
     if backend == "c":
         fn, x = eg.codegen(k), np.random.default_rng(26).uniform(-1, 1, (20, len(x0)))

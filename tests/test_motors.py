@@ -90,14 +90,14 @@ def motor_on_a_link():
 
 
 @pytest.mark.parametrize("backend", ["numpy", "c"])
-def test_motor_rhs_bound_or_not_with_the_currents_from_x(backend, tmp_path, monkeypatch):
+def test_rhs_bound_or_not_with_the_currents_from_x(backend, tmp_path, monkeypatch):
     monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
     f = eg.codegen(eg.derive(motor_on_a_link()), backend=backend)
     phi, phid, i = 0.3, 0.5, 2.0
     expected = [phid, (0.05 * i - 9.81 * 0.5 * np.cos(phi)) / 0.36,
                 (-5 * phi - 0.5 * phid - i - 0.05 * phid) / 0.01]
     bound = f.bind({"L": 0.01})  # the current is state: no bind gives it
-    for rhs in (f.motor_rhs(0.0, [phi, phid, i], {"L": 0.01}), bound.motor_rhs(0.0, (phi, phid, i))):
+    for rhs in (f.rhs(0.0, [phi, phid, i], params={"L": 0.01}), bound.rhs(0.0, (phi, phid, i))):
         np.testing.assert_allclose(rhs, expected, rtol=1e-14)
     np.testing.assert_allclose(bound.tau([phi], [phid], {"i_motor_phi": i}), [0.05 * i], rtol=1e-15)
     with pytest.raises(eg.ModelError, match=r"values missing for the parameters \['i_motor_phi'\]"):
@@ -107,16 +107,16 @@ def test_motor_rhs_bound_or_not_with_the_currents_from_x(backend, tmp_path, monk
     with pytest.raises(eg.ModelError, match=r"bind: \['i_motor_phi'\] are motor currents"):
         f.bind({"L": 0.01, "i_motor_phi": i})
     with pytest.raises(eg.ModelError, match=r"\['i_motor_phi'\] are motor currents, taken from the state x"):
-        f.motor_rhs(0.0, [phi, phid, i], {"L": 0.01, "i_motor_phi": i})
+        f.rhs(0.0, [phi, phid, i], params={"L": 0.01, "i_motor_phi": i})
     with pytest.raises(eg.ModelError, match=r"L = 0.0 \(must be > 0\)"):
-        f.motor_rhs(0.0, [phi, phid, i], {"L": 0.0})
+        f.rhs(0.0, [phi, phid, i], params={"L": 0.0})
     with pytest.raises(eg.ModelError, match=r"x: expected \[q, u, i\] of shape \(3,\), got shape \(2,\)"):
-        bound.motor_rhs(0.0, [phi, phid])
+        bound.rhs(0.0, [phi, phid])
 
 
-def test_two_link_motor_rhs_bound():
+def test_two_link_rhs_bound():
     fn = eg.codegen(eg.derive(two_link_arm(motors=True), method="lagrange"))
     x = np.array([-1.2, 0.4, 0.3, -0.7, 1.5, -2.0])
-    np.testing.assert_array_equal(fn.bind(NUMBERS).motor_rhs(0.0, x), fn.motor_rhs(0.0, x, NUMBERS))
-    with pytest.raises(eg.ModelError, match="the system has no motors"):
-        eg.codegen(eg.derive(two_link_arm())).motor_rhs(0.0, x[:4])
+    np.testing.assert_array_equal(fn.bind(NUMBERS).rhs(0.0, x), fn.rhs(0.0, x, params=NUMBERS))
+    with pytest.raises(eg.ModelError, match=r"x: expected \[q, u\] of shape \(4,\) or \(N, 4\), got"):
+        eg.codegen(eg.derive(two_link_arm())).rhs(0.0, x)

@@ -18,6 +18,8 @@ from .simplification import simplified
 from .worked import Solution, Step, solution
 from .state import difference, integrate, random_states
 from .simulate import simulate
+from .plotting import plot
+from .animation import animate
 from .tradeoff import tradeoff
 from .verify import verify
 
@@ -25,5 +27,5 @@ __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed
            "Kinematics", "ModelError", "Placement", "Planar", "Prismatic", "Revolute", "Solution", "Spherical", "Step",
            "System", "Translation", "Universal", "assemble", "codegen", "derive", "from_dh", "from_mjcf",
            "from_urdf", "integrate", "kane", "project", "quiet", "random_states", "reduce", "robots",
-           "difference", "simplified", "simulate", "solution",
+           "difference", "simplified", "simulate", "plot", "animate", "solution",
            "tradeoff", "verify", "write_c", "write_module"]

@@ -1,21 +1,29 @@
-"""Simulation of a system with contacts, loops and rolling disks that keeps their constraints.
+"""Simulation of any system on SciPy's integrators, with its energy balance.
 
-The state x = [q, u] moves by q̇ = q̇(q, u) (`System.qdot`) and the constrained dynamics u̇ of
-`constrained_dynamics` (J_c u̇ + J̇_c u = 0, forces by the contact machinery), on SciPy's integrators.
-Integration holds the constraint's second derivative only, so r(q) and J_c u drift; `stabilization`:
+The state x = [q, u] (with DC motors [q, u, i]; Kane's equations [q, w_ind]) moves by the functions'
+`rhs` (`codegen.rhs`), and the work W of the actuators and of the non-conservative loads by Ẇ = `power`
+alongside it, so that E(t) − E(t0) − W(t) = 0 (E = T + U, `energy`) up to the integration error. With
+contacts, loops and rolling disks the constrained dynamics hold only the constraints' second derivative,
+so r(q) and J_c u drift; `stabilization`:
 - "projection": after each accepted step (q, u) ← eg.project(q, u) (q back on r = 0 by Gauss–Newton,
   u ← u − M⁻¹ J_cᵀ (J_c M⁻¹ J_cᵀ)⁺ J_c u); explicit Runge–Kutta methods, whose state is (t, x, ẋ);
 - "baumgarte": J_c u̇ + J̇_c u = −2 α J_c u − β² r (r on the rows that have a position residual);
 - None: the drift left as it grows."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import DOP853, RK23, RK45, solve_ivp
 
 from .assembly import numeric, project
+from .codegen import NumericEoM, codegen
+from .codegen.kane import NumericKane
+from .codegen.rhs import efforts
+from .eom import EquationsOfMotion
 from .errors import ModelError
+from .methods.kane import KaneEquations
+from .model import System
 
 STABILIZATIONS = ("projection", "baumgarte", None)
 METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")  # solve_ivp's
@@ -24,55 +32,98 @@ PROJECTING = {"RK23": RK23, "RK45": RK45, "DOP853": DOP853}  # explicit: (t, x, 
 
 @dataclass
 class Simulation:
-    """States at the times t (N,): q (N, nq), u (N, nv); the drifts ‖r(q)‖ (None without loops or rolling
-    disks) and ‖J_c u‖; the energy T + U when no load acts (None otherwise)."""
+    """The motion at the times t (N,): q (N, nq), u (N, nv) (Kane's: w_ind), the motor currents (N, motors;
+    None without motors) and the actuator efforts τ_a at these states (N, actuated; None without them);
+    the energy E = T + U (+ ½ Σ L i²) and the work W of the actuators and non-conservative loads since t0,
+    so that `balance` = E − E(t0) − W vanishes but for the integration error; the drifts ‖r(q)‖ of the
+    loops, rolling disks (Kane's: holonomic constraints) and ‖J_c u‖ (None where there are none); the
+    `functions` that ran, with their `params`."""
 
     t: np.ndarray
     q: np.ndarray
     u: np.ndarray
+    currents: np.ndarray | None
+    tau: np.ndarray | None
+    energy: np.ndarray
+    work: np.ndarray
     closure_drift: np.ndarray | None
-    velocity_drift: np.ndarray
-    energy: np.ndarray | None
+    velocity_drift: np.ndarray | None
+    functions: NumericEoM | NumericKane = field(repr=False)
+    params: dict | None = field(default=None, repr=False)
+
+    @property
+    def balance(self) -> np.ndarray:
+        """E(t) − E(t0) − W(t): zero for exact integration."""
+        return self.energy - self.energy[0] - self.work
 
 
-def simulate(f, x0, t_span, tau_a=None, stabilization: str | None = "projection",
-             baumgarte: tuple[float, float] = (10.0, 10.0), params=None, method: str = "DOP853",
-             t_eval=None, rtol: float = 1e-10, atol: float = 1e-10, max_step: float = np.inf,
-             tol: float | None = None) -> Simulation:
-    """Integrate from x0 = (q0, u0) (or [q0, u0]) over t_span = (t0, t1) with actuator torques tau_a (None,
-    values, or a function (t, q, u) → values) and the module's `stabilization` ((α, β) = `baumgarte`:
-    critically damped at α = β); t1 < t0 runs backward. With projection (`tol`: `eg.project`'s), x0 is
-    projected first and the states are those after each accepted step (or at t_eval, interpolated in the
-    step and projected); else solve_ivp's. t_eval within t_span, in the direction of time."""
-    f = numeric(f, "simulate")
+def functions(source, entry: str) -> NumericEoM | NumericKane:
+    """The numeric functions of a System (derived with method "recursive"), an EquationsOfMotion, a
+    KaneEquations, or the `eg.codegen` functions themselves (give these for repeated runs)."""
+    if isinstance(source, (NumericEoM, NumericKane)):
+        return source
+    if isinstance(source, KaneEquations):
+        return codegen(source)
+    if not isinstance(source, (System, EquationsOfMotion)):
+        raise ModelError(f"{entry}: expected a System, EquationsOfMotion, KaneEquations or their eg.codegen "
+                         f"functions, got {type(source).__name__}")
+    return numeric(source, entry)
+
+
+def simulate(system_or_functions, x0, t_span, controller=None, tau=None, params=None,
+             stabilization: str | None = "projection", baumgarte: tuple[float, float] = (10.0, 10.0),
+             method: str = "DOP853", t_eval=None, rtol: float = 1e-10, atol: float = 1e-10,
+             max_step: float = np.inf, tol: float | None = None) -> Simulation:
+    """Integrate from x0 = (q0, u0) (with motors (q0, u0, i0); Kane's (q0, w0); or one array) over
+    t_span = (t0, t1) (t1 < t0 runs backward) with the actuator efforts of `controller`, a function
+    (t, q, u) → τ_a, or `tau` (values, or such a function; not both). With contacts, loops or rolling
+    disks, `stabilization` ((α, β) = `baumgarte`, critically damped at α = β); with projection (`tol`:
+    `eg.project`'s) x0 is projected first and the states are those after each accepted step (or at
+    t_eval, interpolated in the step and projected); else solve_ivp's. t_eval within t_span, in the
+    direction of time."""
+    f = functions(system_or_functions, "simulate")
     if stabilization not in STABILIZATIONS:
         raise ModelError(f"simulate: stabilization must be one of {STABILIZATIONS}, got {stabilization!r}")
-    if stabilization == "projection" and method not in PROJECTING:
-        raise ModelError(f"simulate: projection needs an explicit Runge–Kutta method {list(PROJECTING)}, "
-                         f"got {method!r}")
     if method not in METHODS:
         raise ModelError(f"simulate: method must be one of {list(METHODS)}, got {method!r}")
+    constrained = isinstance(f, NumericEoM) and bool(f.constraint_rows)
+    projecting = constrained and stabilization == "projection"
+    if projecting and method not in PROJECTING:
+        raise ModelError(f"simulate: projection needs an explicit Runge–Kutta method {list(PROJECTING)}, "
+                         f"got {method!r}")
+    if controller is not None and tau is not None:
+        raise ModelError("simulate: give the actuator efforts by controller or by tau, not both")
+    if controller is not None and not callable(controller):
+        raise ModelError(f"simulate: controller must be a function (t, q, u) → τ_a, got "
+                         f"{type(controller).__name__}")
+    source = tau if controller is None else controller
     t_eval = _times(t_span, t_eval)
-    y0 = np.concatenate([np.ravel(x) for x in x0]) if isinstance(x0, tuple) else np.asarray(x0, dtype=float)
-    if y0.shape != (f.nq + f.nv,):
-        raise ModelError(f"simulate: x0 must be (q0, u0) with {f.nq} + {f.nv} values, got {y0.shape[0]}")
-    torque = tau_a if callable(tau_a) else (lambda t, q, u: tau_a)
-    gains = baumgarte if stabilization == "baumgarte" else None
+    gains = {"baumgarte": baumgarte} if constrained and stabilization == "baumgarte" else {}
 
-    def rhs(t, y):
-        q, u = y[:f.nq], y[f.nq:]
-        return np.concatenate([f.qdot(q, u, params),
-                               f.constrained_dynamics(q, u, torque(t, q, u), params, gains)[0]])
+    def rates(t, y):
+        x = y[:-1]
+        tau_a = efforts(source, t, x[:f.nq], x[f.nq:f.nq + f.nv])
+        return np.append(f.rhs(t, x, tau_a, params, **gains), f.power(t, x, tau_a, params))
 
+    y0 = np.append(_initial(f, x0), 0.0)
     options = dict(rtol=rtol, atol=atol, max_step=max_step)
-    if stabilization == "projection":
-        t, y = _projected(f, rhs, y0, t_span, PROJECTING[method], t_eval, params, options, tol)
+    if projecting:
+        t, y = _projected(f, rates, y0, t_span, PROJECTING[method], t_eval, params, options, tol)
     else:
-        sol = solve_ivp(rhs, t_span, y0, method=method, t_eval=t_eval, **options)
+        sol = solve_ivp(rates, t_span, y0, method=method, t_eval=t_eval, **options)
         if sol.status < 0:
             raise ModelError(f"simulate: the integrator failed at t = {sol.t[-1]}: {sol.message}")
         t, y = sol.t, sol.y.T
-    return _report(f, t, y, params, loads=tau_a is not None or bool(f.eom.load_names))
+    return _report(f, t, y, params, source)
+
+
+def _initial(f, x0) -> np.ndarray:
+    """x0 from a tuple of parts or one array, of f.nx values."""
+    x = np.concatenate([np.ravel(p) for p in x0]) if isinstance(x0, tuple) else np.asarray(x0, dtype=float)
+    if x.shape != (f.nx,):
+        parts = "q0, w0" if isinstance(f, NumericKane) else "q0, u0, i0" if f.nx > f.nq + f.nv else "q0, u0"
+        raise ModelError(f"simulate: x0 must be ({parts}) with {f.nx} values in all, got shape {x.shape}")
+    return x
 
 
 def _times(t_span, t_eval) -> np.ndarray | None:
@@ -89,14 +140,15 @@ def _times(t_span, t_eval) -> np.ndarray | None:
     return t_eval
 
 
-def _projected(f, rhs, y0, t_span, method, t_eval, params, options, tol) -> tuple[np.ndarray, np.ndarray]:
-    """Step `method` and project (q, u) after each accepted step (its x and ẋ reset); the t_eval
+def _projected(f, rates, y0, t_span, method, t_eval, params, options, tol) -> tuple[np.ndarray, np.ndarray]:
+    """Step `method` and project (q, u) after each accepted step (its y and ẏ reset); the t_eval
     between the step's ends (in the direction of time) from its dense output, projected."""
+    n = f.nq + f.nv
 
     def projected(y):
-        return np.concatenate(project(f, y[:f.nq], y[f.nq:], params, tol))
+        return np.concatenate([*project(f, y[:f.nq], y[f.nq:n], params, tol), y[n:]])
 
-    solver = method(rhs, t_span[0], projected(y0), t_span[1], **options)
+    solver = method(rates, t_span[0], projected(y0), t_span[1], **options)
     ts, ys = ([], []) if t_eval is not None else ([solver.t], [solver.y])
     if t_eval is not None and t_eval.size and t_eval[0] == solver.t:
         ts, ys = [solver.t], [solver.y]
@@ -119,12 +171,20 @@ def _projected(f, rhs, y0, t_span, method, t_eval, params, options, tol) -> tupl
     return np.array(ts), np.array(ys)
 
 
-def _report(f, t, y, params, loads: bool) -> Simulation:
-    """The states with their drifts ‖r‖, ‖J_c u‖ and (no loads) the energy T + U."""
-    q, u = y[:, :f.nq], y[:, f.nq:]
-    closure = np.linalg.norm(f.closure_residual(q, params), axis=-1) if f.closure_rows else None
-    velocity = np.linalg.norm(np.einsum("nij,nj->ni", f.contact_jacobian(q, params), u), axis=-1)
-    energy = None
-    if not loads and "T" in f.eom.compact and "U" in f.eom.compact:
-        energy = f.T(q, u, params) + f.U(q, params)
-    return Simulation(t, q, u, closure, velocity, energy)
+def _report(f, t, y, params, source) -> Simulation:
+    """The states with their energy, work, efforts and drifts."""
+    x, n = y[:, :-1], f.nq + f.nv
+    q, u = x[:, :f.nq], x[:, f.nq:n]
+    tau = None
+    if source is not None:
+        tau = np.array([np.broadcast_to(efforts(source, tk, qk, uk), (len(f.S),))
+                        for tk, qk, uk in zip(t, q, u)])
+    closure = velocity = None
+    if isinstance(f, NumericKane):
+        if f.kane.dependent_coordinates:
+            closure = np.linalg.norm(f.holonomic_residual(q, params), axis=-1)
+    elif f.constraint_rows:
+        closure = np.linalg.norm(f.closure_residual(q, params), axis=-1) if f.closure_rows else None
+        velocity = np.linalg.norm(np.einsum("nij,nj->ni", f.contact_jacobian(q, params), u), axis=-1)
+    currents = x[:, n:] if x.shape[1] > n else None
+    return Simulation(t, q, u, currents, tau, f.energy(x, params), y[:, -1], closure, velocity, f, params)

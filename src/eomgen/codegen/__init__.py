@@ -18,6 +18,7 @@ from .derivative_functions import DerivativeFunctions
 from .kinematic_functions import KinematicFunctions
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
+from .rhs import StateFunctions
 from .runtime import mpmath_functions, runtime_namespace
 
 _runtime = runtime_namespace()
@@ -77,9 +78,10 @@ def eager(eom: EquationsOfMotion) -> list[str]:
     return [k for k in eom.compact if k in ("M", "b", "g", "nle") or k.split(":")[0] in ("J", "Jdot_u")]
 
 
-class NumericEoM(KinematicFunctions, DerivativeFunctions):
-    """Numeric M(q), b(q, u), g(q), tau(q, u), T(q, u), U(q), frame Jacobians, forward dynamics, inverse
-    dynamics and their derivatives, and (free cut) joint reactions of one `EquationsOfMotion`.
+class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
+    """Numeric M(q), b(q, u), g(q), tau(q, u), T(q, u), U(q), frame Jacobians, forward dynamics, the
+    state equations `rhs`, the inverse dynamics and the derivatives of the dynamics, and (free cut) joint
+    reactions of one `EquationsOfMotion`.
 
     q and u are arrays of shape (n,), or (N, n) for N states at once (evaluated without a Python
     loop). Symbolic parameters are given by name in a mapping {name: value} in each call (a function
@@ -259,26 +261,6 @@ class NumericEoM(KinematicFunctions, DerivativeFunctions):
         if np.ndim(q) == 1:
             self.euler_singularity(q, params=params)
         return np.linalg.solve(self.M(q, params), self._h(q, u, tau_a, params)[..., None])[..., 0]
-
-    # --- DC motors (one state at a time) --------------------------------------------------------
-    def motor_rhs(self, t, x, params=None) -> np.ndarray:
-        """d/dt [q, u, i] for a system with DC motors (q̇ from u, `System.qdot`): M u̇ = τ − b − g with the
-        motor torques N k i − N² f q̇, and L di/dt = U − R i − k N q̇ for each motor. The currents i are
-        taken from x (params, or a bind, leaves them out); voltages may depend on q and u."""
-        motors = self.eom.system.motors
-        if not motors:
-            raise ModelError("the system has no motors: add them with System.add_motor")
-        x, n = np.asarray(x, dtype=float), self.nq + self.nv
-        if x.shape != (n + len(motors),):
-            raise ModelError(f"x: expected [q, u, i] of shape ({n + len(motors)},), got shape {x.shape}")
-        q, u, i = x[:self.nq], x[self.nq:n], x[n:]
-        params = self.parameters.with_state(params, {m.current: c for m, c in zip(motors, i)})
-        self._function("motor", lambda: sp.Matrix([
-            [m.voltage - m.torque_constant * m.gear_ratio * self.eom.u[m.body.index], m.resistance,
-             m.inductance] for m in motors]))
-        circuit = self.call("motor", q, u, params=params)  # per motor: U − k N q̇, R, L
-        di = (circuit[:, 0] - circuit[:, 1] * i) / circuit[:, 2]
-        return np.concatenate([self.qdot(q, u, params), self.forward_dynamics(q, u, params=params), di])
 
     def qdot(self, q, u, params=None) -> np.ndarray:
         """q̇(q, u) (`System.qdot`: u itself but for quaternions, whose rates depend on q)."""

@@ -4,12 +4,13 @@ over states):
 
     w_dep = −C_dep⁻¹ (C_ind w_ind + c0),  T = [I; −C_dep⁻¹ C_ind],  u = −Y⁻¹ (K w + k0),  P = −Y⁻¹ K T,
     ẇ_dep,0 = −C_dep⁻¹ ċ,  u̇₀ = −Y⁻¹ (K ẇ₀ + ẏ),  M̃ = Pᵀ M P,  f̃ = Pᵀ (h − M u̇₀),  F̃_r = Pᵀ Q,
-    q̇ = q̇(q, u)
+    q̇ = q̇(q, u),  M̃ ẇ_ind = f̃ + Pᵀ Sᵀ τ_a (`rhs`, τ_a the actuated joints' efforts)
 
 (ċ, ẏ: the "rates", d/dt of the constraints and kinematic equations at ẇ = 0, u̇ = 0)."""
 from __future__ import annotations
 
 import numpy as np
+import sympy as sp
 
 from ..errors import ModelError
 from ..state import unit_quaternions
@@ -17,7 +18,8 @@ from . import Generated, NumericEoM
 from .c_backend import CompiledEoM, extension_functions
 from .extension import compiler, python_headers
 from .numpy_backend import C_TRIG, PYTHON, FunctionWriter, compile_function
-from .parameters import Parameters
+from .parameters import Parameters, actuated
+from .rhs import efforts, nonconservative, power, split
 from .runtime import runtime_namespace
 
 _call = runtime_namespace()["_call"]
@@ -26,8 +28,9 @@ _call = runtime_namespace()["_call"]
 class NumericKane:
     """Numeric Kane's equations in the independent speeds w (here: w_ind): mass_matrix(q, w), forcing(q, w),
     qdot(q, w) (the coordinate rates, nq of them), joint_speeds(q, w) (u, n of them), dependent_speeds(q, w),
-    active_forces(q, w), and `rhs(t, x)` for x = [q, w] (solve_ivp); with holonomic constraints
-    holonomic_residual(q) and assemble(q_guess) (a consistent q, the independent coordinates held).
+    active_forces(q, w), `rhs(t, x, tau)` for x = [q, w_ind] (solve_ivp), its `energy` and `power`; with
+    holonomic constraints holonomic_residual(q) and assemble(q_guess) (a consistent q, the independent
+    coordinates held).
     One state (q of shape (nq,)) or N states (N, nq); parameters by name in `params`."""
 
     syntax = PYTHON
@@ -43,12 +46,15 @@ class NumericKane:
         w_inputs = [] if kane.speeds_are_qdot else list(kane.speeds)  # else w is u itself
         writer = FunctionWriter(kane.subexpressions, {"q": list(kane.system.q), "u": list(kane.system.u),
                                                       "ud": w_inputs, "p": self.params}, self.syntax)
-        keys = [k for k in ("M", "h", "Y", "C", "rates", "qdot", "holonomic")
+        self.S = np.array(kane.system.S.tolist(), dtype=float).reshape(-1, self.n)
+        exprs = {**kane.compact, "energy": sp.Matrix([kane.eom.compact["T"], kane.eom.compact["U"]]),
+                 "tau_nc": nonconservative(kane.eom)}
+        keys = [k for k in ("M", "h", "Y", "C", "rates", "qdot", "holonomic", "energy", "tau_nc")
                 if (k != "C" or kane.dependent) and (k != "qdot" or not kane.joint_speeds_are_rates)
                 and (k != "holonomic" or kane.dependent_coordinates)]
         written = []
         for i, key in enumerate(keys):
-            source, shape, ops = writer.source(f"e{i}", kane.compact[key], symmetric=key == "M")
+            source, shape, ops = writer.source(f"e{i}", exprs[key], symmetric=key == "M")
             written.append((key, source, shape, ops, writer.trig_indices))
         self.functions: dict[str, Generated] = self._compile(written)
 
@@ -138,8 +144,8 @@ class NumericKane:
         raise ModelError(f"assemble: the holonomic constraints fail by {residual:.3g} (max |f|) after "
                          f"{iterations} Newton steps from q_guess; no consistent q near it")
 
-    def _dynamics(self, q, w_ind, params) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(u, M̃, f̃) at q and w_ind."""
+    def _dynamics(self, q, w_ind, params, tau_a=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(u, M̃, f̃ + Pᵀ Sᵀ τ_a) at q and w_ind."""
         w, u, P, C_dep, Y, K = self._speeds(q, w_ind, params)
         rates = self._eval("rates", q, u, self._w(w), params)
         wd0 = np.zeros(w.shape + (1,))
@@ -148,14 +154,32 @@ class NumericKane:
         ud0 = -np.linalg.solve(Y, K @ wd0 + rates[..., :self.n, :])
         M = self._eval("M", q, params=params)
         Pt = np.swapaxes(P, -1, -2)
-        h = self._eval("h", q, u, params=params)[..., :1]
+        h = actuated(self._eval("h", q, u, params=params)[..., 0], tau_a, self.S)[..., None]
         return u, Pt @ M @ P, (Pt @ (h - M @ ud0))[..., 0]
 
-    def rhs(self, t, x, params=None) -> np.ndarray:
-        """d/dt [q, w_ind] = [q̇(q, u), M̃⁻¹ f̃]."""
-        q, w = x[..., :self.nq], x[..., self.nq:]
-        u, M, f = self._dynamics(q, w, params)
+    @property
+    def nx(self) -> int:
+        """The size of the state x = [q, w_ind]."""
+        return self.nq + self.nv
+
+    def rhs(self, t, x, tau=None, params=None) -> np.ndarray:
+        """d/dt [q, w_ind] = [q̇(q, u), M̃⁻¹ (f̃ + Pᵀ Sᵀ τ_a)], τ_a = `tau` (None, one value per actuated
+        joint, or a function (t, q, w_ind))."""
+        q, w = split(x, [self.nq, self.nv], "q, w_ind", batch=True)
+        u, M, f = self._dynamics(q, w, params, efforts(tau, t, q, w))
         return np.concatenate([self._rates(q, u, params), np.linalg.solve(M, f[..., None])[..., 0]], -1)
+
+    def power(self, t, x, tau=None, params=None) -> np.ndarray:
+        """Ẇ = uᵀ (Sᵀ τ_a + τ_nc), u the joint speeds: the power of the actuators and of the loads but
+        springs (`codegen.rhs`)."""
+        q, w = split(x, [self.nq, self.nv], "q, w_ind", batch=True)
+        u = self.joint_speeds(q, w, params)
+        return power(u, self._eval("tau_nc", q, u, params=params)[..., 0], efforts(tau, t, q, w), self.S)
+
+    def energy(self, x, params=None) -> np.ndarray:
+        """E = T + U at the joint speeds u of (q, w_ind)."""
+        q, w = split(x, [self.nq, self.nv], "q, w_ind", batch=True)
+        return self._eval("energy", q, self.joint_speeds(q, w, params), params=params)[..., 0].sum(-1)
 
 
 class CompiledKane(NumericKane):

@@ -10,7 +10,7 @@ asks only for the parameters it uses; an unknown name, a missing value, a value 
 real number (strings and bools included) or one that contradicts the symbol's assumptions (positive,
 negative, nonnegative, nonpositive, nonzero, integer) is an error naming the parameters. `bind`
 fixes the values once: the bound functions then take no params, but for the state parameters (the
-motor currents, which `motor_rhs` takes from its state x).
+motor currents, which `rhs` takes from its state x).
 
 The vector and the actuator term are computed by one text (`RUNTIME`), run by eomgen and written
 verbatim into generated modules, which need only numpy."""
@@ -144,7 +144,7 @@ class Parameters:
         """The same parameters with every value but the state ones fixed."""
         if isinstance(values, Mapping) and (named := self._named(values, state=True)):
             raise ModelError(f"bind: {named} are motor currents, part of the state: give them per call "
-                             "(motor_rhs takes them from x), not to bind")
+                             "(rhs takes them from x), not to bind")
         return BoundParameters(self, self.vector(values, set(range(len(self.names))) - self.state))
 
 

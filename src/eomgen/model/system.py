@@ -144,7 +144,7 @@ class System:
             exprs += [*f.placement.rotation, *f.placement.translation]
         for load in self.loads:
             exprs += [x for v in vars(load).values() for x in _entries(v)]
-        for m in self.motors:  # the armature circuit's constants and the voltage (motor_rhs)
+        for m in self.motors:  # the armature circuit's constants and the voltage (rhs)
             exprs += [m.voltage, m.resistance, m.inductance, m.torque_constant, m.gear_ratio]
         free = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
         return free - set(self.q) - set(self.u)
