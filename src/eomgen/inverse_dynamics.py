@@ -9,7 +9,7 @@ u̇ = M⁻¹ (τ + τ_loads − b − g),
     ∂u̇/∂q = −M⁻¹ ∂(τ_ID − τ_loads)/∂q,   ∂u̇/∂u = −M⁻¹ ∂(τ_ID − τ_loads)/∂u,   ∂u̇/∂τ = M⁻¹,
 
 τ_ID taken at that u̇ (so ∂M/∂q u̇ is in ∂τ_ID/∂q). The results are kept in `EquationsOfMotion.compact`
-under "ID", "ID:D" and "ID:D_loads" (built once, on first request)."""
+under "ID", "ID:loads", "ID:D" and "ID:D_loads" (built once, on first request)."""
 from __future__ import annotations
 
 import sympy as sp
@@ -54,12 +54,22 @@ def _inverse_dynamics(eom: EquationsOfMotion) -> sp.Matrix:
     return matmul(eom.compact["M"], system.ud) + eom.compact["b"] + eom.compact["g"]
 
 
+def dynamics_residual(eom: EquationsOfMotion) -> sp.Matrix:
+    """τ_ID − τ_loads = M u̇ + b + g − τ_loads: the recursion with the loads as external forces (their
+    derivatives then follow the body frames, not the world Jacobians of every load point), or with a
+    flexible link the inverse dynamics less the compact τ_loads."""
+    if "ID:loads" not in eom.compact:
+        eom.compact["ID:loads"] = (inverse_dynamics(eom) - eom.tau_compact if _flexible(eom) else
+                                   recursive.inverse_dynamics(eom.kinematics, loads=True))
+    return eom.compact["ID:loads"]
+
+
 def dynamics_jacobian(eom: EquationsOfMotion, loads: bool = False) -> sp.Matrix:
     """[∂r/∂q | ∂r/∂u] (n × 2n) of r = τ_ID, or with `loads` r = τ_ID − τ_loads (the forward dynamics'
     Jacobians before M⁻¹); ∂/∂q in the tangent space (`derivatives.tangent_seeds`)."""
     key = "ID:D_loads" if loads else "ID:D"
     if key not in eom.compact:
-        r = inverse_dynamics(eom) - (eom.tau_compact if loads else sp.zeros(len(eom.u), 1))
+        r = dynamics_residual(eom) if loads else inverse_dynamics(eom)
         sub, system = eom.subexpressions, eom.system
         eom.compact[key] = jacobian(sub, r, tangent_seeds(system), TANGENT).row_join(
             jacobian(sub, r, speed_seeds(system), SPEED))

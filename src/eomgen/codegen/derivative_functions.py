@@ -168,3 +168,14 @@ class DerivativeFunctions:
     def _euler(self) -> bool:
         """Whether a joint has ZYX Euler angles (`euler_singularity`)."""
         return any(b.joint.pitch_index is not None for b in self.eom.system.bodies)
+
+
+class KaneRefusals:
+    """Mixed into `NumericKane`: Kane's equations are in the independent speeds, the inverse dynamics and the
+    derivatives are those of `eg.derive`'s equations."""
+
+    def _refuse(self, *args, **kwargs):
+        raise ModelError("inverse_dynamics, inverse_dynamics_derivatives and forward_dynamics_derivatives are "
+                         "generated for EquationsOfMotion (eg.derive(system)), not for Kane's equations")
+
+    inverse_dynamics = inverse_dynamics_derivatives = forward_dynamics_derivatives = _refuse

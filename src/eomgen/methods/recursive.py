@@ -26,7 +26,7 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
-from .applied import add_armature, armature, generalized_force, potential_energy
+from .applied import add_armature, applied_wrenches, armature, generalized_force, potential_energy
 
 
 class Recursion:
@@ -67,8 +67,11 @@ class Recursion:
         a = a + sum((scale(ud[i], v) for i, v, _ in self.S[b]), zero)
         return sub.add_matrix(w), sub.add_matrix(al), sub.add_matrix(a)
 
-    def rnea(self, u, ud, gravity: sp.Matrix) -> sp.Matrix:
-        """τ_k = v_k · F_i + ω_k · N_i of the pass with speeds u, accelerations ud and gravity g⃗."""
+    def rnea(self, u, ud, gravity: sp.Matrix, loads: bool = False) -> sp.Matrix:
+        """τ_k = v_k · F_i + ω_k · N_i of the pass with speeds u, accelerations ud and gravity g⃗; with
+        `loads` less their generalized forces: each force F at r and torque T on body i (world axes,
+        `applied_wrenches`) taken off its balance, f_i −= Rᵀ F, n_i −= r × Rᵀ F + Rᵀ T (R the body's rotation
+        in the world, r in body axes)."""
         sub, zero = self.sub, sp.zeros(3, 1)
         motion, F, N = {}, {}, {}
         for b in self.bodies:
@@ -79,6 +82,13 @@ class Recursion:
             f = sub.add_matrix(scale(b.mass, a_S))
             N[b] = matmul(b.inertia, al) + cross(w, sub.add_matrix(matmul(b.inertia, w))) + cross(c, f)
             F[b] = f
+        for point, F_ext, T_ext in (w for load in self.kin.system.loads for w in applied_wrenches(self.kin, load)
+                                    if loads):
+            if point.body is not None:  # a force on the world moves nothing
+                R = self.kin.R[point.body]
+                f = sub.add_matrix(matmul(R.T, sub.add_matrix(F_ext)))
+                F[point.body] = F[point.body] - f
+                N[point.body] = N[point.body] - cross(point.offset, f) - matmul(R.T, sub.add_matrix(T_ext))
         tau = sp.zeros(self.n, 1)
         for b in reversed(self.bodies):
             for c in self.children[b]:
@@ -128,11 +138,11 @@ class Recursion:
         return M
 
 
-def inverse_dynamics(kin: Kinematics) -> sp.Matrix:
+def inverse_dynamics(kin: Kinematics, loads: bool = False) -> sp.Matrix:
     """τ = M u̇ + b + g in one RNEA pass with u, u̇ (`System.ud`) and gravity, plus I_a u̇ of the
-    armature (as Pinocchio's rnea)."""
+    armature (as Pinocchio's rnea); with `loads` τ − τ_loads (the loads as external forces)."""
     system = kin.system
-    tau = Recursion(kin).rnea(kin.u, list(system.ud), system.gravity)
+    tau = Recursion(kin).rnea(kin.u, list(system.ud), system.gravity, loads)
     for i, inertia in armature(kin):
         tau[i] += inertia * system.ud[i]
     return tau
