@@ -10,6 +10,7 @@ u̇ = M⁻¹ (τ + τ_loads − b − g),
 
 τ_ID taken at that u̇ (so ∂M/∂q u̇ is in ∂τ_ID/∂q). The results are kept in `EquationsOfMotion.compact`
 under "ID", "ID:loads", "ID:D" and "ID:D_loads" (built once, on first request)."""
+
 from __future__ import annotations
 
 import sympy as sp
@@ -49,8 +50,10 @@ def _inverse_dynamics(eom: EquationsOfMotion) -> sp.Matrix:
         return recursive.inverse_dynamics(eom.kinematics)
     if not available(eom):
         missing = [k for k in ("M", "b", "g") if k not in eom.compact]
-        raise ModelError(f"inverse dynamics of a system with flexible links is M u̇ + b + g: derive {missing} "
-                         "too (quantities=None)")
+        raise ModelError(
+            f"inverse dynamics of a system with flexible links is M u̇ + b + g: derive {missing} "
+            "too (quantities=None)"
+        )
     return matmul(eom.compact["M"], system.ud) + eom.compact["b"] + eom.compact["g"]
 
 
@@ -59,8 +62,11 @@ def dynamics_residual(eom: EquationsOfMotion) -> sp.Matrix:
     derivatives then follow the body frames, not the world Jacobians of every load point), or with a
     flexible link the inverse dynamics less the compact τ_loads."""
     if "ID:loads" not in eom.compact:
-        eom.compact["ID:loads"] = (inverse_dynamics(eom) - eom.tau_compact if _flexible(eom) else
-                                   recursive.inverse_dynamics(eom.kinematics, loads=True))
+        eom.compact["ID:loads"] = (
+            inverse_dynamics(eom) - eom.tau_compact
+            if _flexible(eom)
+            else recursive.inverse_dynamics(eom.kinematics, loads=True)
+        )
     return eom.compact["ID:loads"]
 
 
@@ -72,11 +78,14 @@ def dynamics_jacobian(eom: EquationsOfMotion, loads: bool = False) -> sp.Matrix:
         r = dynamics_residual(eom) if loads else inverse_dynamics(eom)
         sub, system = eom.subexpressions, eom.system
         eom.compact[key] = jacobian(sub, r, tangent_seeds(system), TANGENT).row_join(
-            jacobian(sub, r, speed_seeds(system), SPEED))
+            jacobian(sub, r, speed_seeds(system), SPEED)
+        )
     return eom.compact[key]
 
 
 def _equations(eom, entry: str) -> None:
     if not isinstance(eom, EquationsOfMotion):
-        raise ModelError(f"{entry}: expected EquationsOfMotion, got {type(eom).__name__} (Kane's equations "
-                         "are in independent speeds: use eg.derive(system) for the inverse dynamics)")
+        raise ModelError(
+            f"{entry}: expected EquationsOfMotion, got {type(eom).__name__} (Kane's equations "
+            "are in independent speeds: use eg.derive(system) for the inverse dynamics)"
+        )

@@ -7,6 +7,7 @@ triangular, from the last speed up: Featherstone's LTL factorisation, no fill-in
 ancestors come before it; the zeros of a tree are skipped), solves for u̇ = M⁻¹ (τ + τ_loads − b − g),
 evaluates D = ∂(τ_ID − τ_loads)/∂(q, u) at u̇ and solves M X = [−D | 1]. Where M is not positive definite
 every output is NaN. The same text serves the extension (with the arrays sinq, cosq) and `write_c`."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -18,8 +19,8 @@ from . import reads
 from .numpy_backend import C, C_TRIG, Syntax
 from .derivative_functions import efforts, forward_dynamics, forward_key, forward_parts, jacobians
 
-TEMPLATE = r"""/* A = Lᵀ L in place on A's lower triangle (row-major, @lda@ columns), L lower triangular; 0 unless A is
-   positive definite */
+TEMPLATE = r"""/* A = Lᵀ L in place on A's lower triangle (row-major, @lda@ columns), L lower triangular;
+   0 unless A is positive definite */
 static int @name@_factor(double *A)
 {
     for (int k = @nv@ - 1; k >= 0; --k) {
@@ -97,9 +98,15 @@ def forward_derivatives_source(name: str, parts: str, jacobian: str, nv: int, sy
     """The C text of `name`(q, u, tau, p, out) (`syntax`: with the arrays sinq, cosq for the extension),
     calling the generated functions `parts` ([M | h]) and `jacobian` (D)."""
     text = TEMPLATE
-    for key, value in {"header": syntax.header.format(name=name).replace("*ud", "*tau"), "name": name,
-                       "parts": parts, "jacobian": jacobian, "nv": str(nv), "lda": str(nv + 1),
-                       "trig": "sinq, cosq, " if "sinq" in syntax.header else ""}.items():
+    for key, value in {
+        "header": syntax.header.format(name=name).replace("*ud", "*tau"),
+        "name": name,
+        "parts": parts,
+        "jacobian": jacobian,
+        "nv": str(nv),
+        "lda": str(nv + 1),
+        "trig": "sinq, cosq, " if "sinq" in syntax.header else "",
+    }.items():
         text = text.replace(f"@{key}@", value)
     return text
 
@@ -108,8 +115,15 @@ def plain_parts(eom) -> list[tuple]:
     """For `write_c` (with M, b, g): the entry of [M | h], which <name>_FD_derivatives calls."""
     if not forward_dynamics(eom):
         return []
-    return [("FD_parts", forward_parts(eom), False, "[M | τ_loads − b − g] (M's lower triangle), for "
-             "FD_derivatives", [])]
+    return [
+        (
+            "FD_parts",
+            forward_parts(eom),
+            False,
+            "[M | τ_loads − b − g] (M's lower triangle), for FD_derivatives",
+            [],
+        )
+    ]
 
 
 def plain_function(eom, name: str, sources: dict[str, str]) -> tuple[str, str] | None:
@@ -120,12 +134,17 @@ def plain_function(eom, name: str, sources: dict[str, str]) -> tuple[str, str] |
     key, nv = forward_key(eom), len(eom.u)
     text = forward_derivatives_source(f"{name}_FD_derivatives", f"{name}_FD_parts", f"{name}_{key}", nv, C)
     used = reads(sources["FD_parts"] + sources[key])
-    read = "; ".join(f"{arg}[{', '.join(map(str, sorted(set(ks))))}]" for arg, ks in used.items() if ks and arg != "ud")
-    declaration = (f"/* [∂u̇/∂q | ∂u̇/∂u | ∂u̇/∂τ] of the forward dynamics M u̇ = τ + τ_loads − b − g at q, u, τ (NV "
-                   "joint efforts,\n * in the place of ud); out: NV x 3 NV, row-major, every entry written (NaN "
-                   f"where M is not positive definite);\n * reads "
-                   f"{read or 'nothing'}, tau */\n"
-                   + C.header.format(name=f"{name}_FD_derivatives").split("\n")[0].replace("*ud", "*tau") + ";")
+    read = "; ".join(
+        f"{arg}[{', '.join(map(str, sorted(set(ks))))}]" for arg, ks in used.items() if ks and arg != "ud"
+    )
+    declaration = (
+        "/* [∂u̇/∂q | ∂u̇/∂u | ∂u̇/∂τ] of the forward dynamics M u̇ = τ + τ_loads − b − g at q, u, τ (NV "
+        "joint efforts,\n * in the place of ud); out: NV x 3 NV, row-major, every entry written (NaN "
+        "where M is not positive definite);\n * reads "
+        f"{read or 'nothing'}, tau */\n"
+        + C.header.format(name=f"{name}_FD_derivatives").split("\n")[0].replace("*ud", "*tau")
+        + ";"
+    )
     return text, declaration
 
 
@@ -154,7 +173,7 @@ class CompiledDerivatives:
         if np.isnan(first).any() if out.ndim == 3 else first != first:
             raise ModelError("forward_dynamics_derivatives: M is not positive definite at this state")
         nv = self.nv
-        return out[..., :nv], out[..., nv:2 * nv], out[..., 2 * nv:]
+        return out[..., :nv], out[..., nv : 2 * nv], out[..., 2 * nv :]
 
     def _build_derivatives(self) -> None:
         """ID_derivatives, and with M, b, g: FD_jacobian (with loads), FD_parts ([M | h]) and FD_derivatives,
@@ -175,11 +194,13 @@ class CompiledDerivatives:
         if forward_dynamics(eom):
             parts, jacobian = written[-1], written[keys.index(forward_key(eom))]
             trig = sorted(set(parts[4]) | set(jacobian[4]))
-            source = forward_derivatives_source(f"e{len(keys)}", f"e{len(keys) - 1}",
-                                                f"e{keys.index(forward_key(eom))}", self.nv, C_TRIG)
+            source = forward_derivatives_source(
+                f"e{len(keys)}", f"e{len(keys) - 1}", f"e{keys.index(forward_key(eom))}", self.nv, C_TRIG
+            )
             written.append(("FD_derivatives", source, (self.nv, 3 * self.nv), parts[3] + jacobian[3], trig))
         functions = extension_functions(written, self.nq, self.nv, len(self.params))
         if forward_dynamics(eom):  # the parameters it reads are those of its parts
             functions["FD_derivatives"] = dataclasses.replace(
-                functions["FD_derivatives"], source=parts[1] + jacobian[1] + source)
+                functions["FD_derivatives"], source=parts[1] + jacobian[1] + source
+            )
         self.functions.update(functions)

@@ -9,6 +9,7 @@ D = ∂(τ_ID − τ_loads)/∂(q, u) at u̇ = M⁻¹ (τ + τ_loads − b − g
 computeABADerivatives; Sᵀ τ_a for the τ_a of `forward_dynamics`, and ∂u̇/∂τ_a = M⁻¹ Sᵀ). M⁻¹ comes from
 one Cholesky factorisation. The NumPy arithmetic is one text (`RUNTIME`), run by eomgen and written
 verbatim into generated modules; the compiled functions do it in C (`c_derivatives`)."""
+
 from __future__ import annotations
 
 import functools
@@ -28,7 +29,8 @@ def _efforts(tau, nv, batch):
     try:
         t = numpy.asarray(tau, dtype=float)
     except (TypeError, ValueError):
-        raise _Error("tau: expected %d real numbers (one per speed), got %s" % (nv, type(tau).__name__)) from None
+        raise _Error("tau: expected %d real numbers (one per speed), got %s"
+                     % (nv, type(tau).__name__)) from None
     if t.shape not in ((nv,), batch + (nv,)) or not numpy.all(numpy.isfinite(t)):
         raise _Error("tau: expected %d finite values (one per speed), shape (%d,) or %s, got shape %s"
                      % (nv, nv, batch + (nv,), t.shape))
@@ -84,30 +86,55 @@ def forward_key(eom) -> str:
 
 def jacobians(eom) -> dict:
     """Key: build of the Jacobians the functions use (`inverse_dynamics.dynamics_jacobian`)."""
-    return {"ID_derivatives": lambda: dynamics_jacobian(eom), "FD_jacobian": lambda: dynamics_jacobian(eom, True)}
+    return {
+        "ID_derivatives": lambda: dynamics_jacobian(eom),
+        "FD_jacobian": lambda: dynamics_jacobian(eom, True),
+    }
 
 
 def forward_parts(eom) -> sp.Matrix:
     """[M | τ_loads − b − g] (n × (n + 1)), M's lower triangle only (what the C factorisation reads)."""
     n = len(eom.u)
     M = eom.compact["M"]
-    h = eom.tau_compact - (eom.compact["nle"] if "nle" in eom.compact else eom.compact["b"] + eom.compact["g"])
+    h = eom.tau_compact - (
+        eom.compact["nle"] if "nle" in eom.compact else eom.compact["b"] + eom.compact["g"]
+    )
     return sp.Matrix(n, n, lambda i, j: M[i, j] if j <= i else 0).row_join(h)
 
 
 def outputs(eom) -> list[tuple[str, str, str, object, str]]:
     """(key, name, what, build, args) of the inverse dynamics and its Jacobian (where it can be formed), and
-    with M, b, g the Jacobian of the forward dynamics (when it differs, with loads), for the written outputs."""
+    with M, b, g the Jacobian of the forward dynamics (when it differs, with loads), for the written outputs.
+    """
     if not available(eom):
         return []
     build = jacobians(eom)
-    found = [("ID", "inverse_dynamics", "τ = M u̇ + b + g, one recursive Newton-Euler pass",
-              lambda: inverse_dynamics(eom), "q, u, ud"),
-             ("ID_derivatives", "_inverse_dynamics_jacobian", "[∂τ/∂q | ∂τ/∂u] (NV x 2 NV) of the inverse "
-              "dynamics, ∂/∂q in the tangent space", build["ID_derivatives"], "q, u, ud")]
+    found = [
+        (
+            "ID",
+            "inverse_dynamics",
+            "τ = M u̇ + b + g, one recursive Newton-Euler pass",
+            lambda: inverse_dynamics(eom),
+            "q, u, ud",
+        ),
+        (
+            "ID_derivatives",
+            "_inverse_dynamics_jacobian",
+            "[∂τ/∂q | ∂τ/∂u] (NV x 2 NV) of the inverse dynamics, ∂/∂q in the tangent space",
+            build["ID_derivatives"],
+            "q, u, ud",
+        ),
+    ]
     if forward_dynamics(eom) and eom.load_names:
-        found.append(("FD_jacobian", "_forward_dynamics_jacobian", "[∂/∂q | ∂/∂u] (NV x 2 NV) of τ_ID − "
-                      "τ_loads, ∂/∂q in the tangent space", build["FD_jacobian"], "q, u, ud"))
+        found.append(
+            (
+                "FD_jacobian",
+                "_forward_dynamics_jacobian",
+                "[∂/∂q | ∂/∂u] (NV x 2 NV) of τ_ID − τ_loads, ∂/∂q in the tangent space",
+                build["FD_jacobian"],
+                "q, u, ud",
+            )
+        )
     return found
 
 
@@ -132,7 +159,7 @@ class DerivativeFunctions:
     """Mixed into `NumericEoM`: one state or N states along axis 0."""
 
     def inverse_dynamics(self, q, u, ud, params=None) -> np.ndarray:
-        """τ = M u̇ + b + g in one recursive Newton-Euler pass (Pinocchio's `rnea`), shape (nv,) per state."""
+        """τ = M u̇ + b + g in one recursive Newton-Euler pass (Pinocchio's `rnea`), (nv,) per state."""
         self._function("ID", lambda: inverse_dynamics(self.eom))
         return self.call("ID", q, u, ud, params)[..., 0]
 
@@ -144,7 +171,7 @@ class DerivativeFunctions:
         """(∂τ/∂q, ∂τ/∂u), each nv × nv per state, of `inverse_dynamics` (Pinocchio's
         `computeRNEADerivatives`; ∂τ/∂u̇ = M); ∂/∂q in the tangent space."""
         D = self._dynamics_jacobian("ID_derivatives", q, u, ud, params)
-        return D[..., :self.nv], D[..., self.nv:]
+        return D[..., : self.nv], D[..., self.nv :]
 
     def forward_dynamics_derivatives(self, q, u, tau=None, params=None) -> tuple[np.ndarray, ...]:
         """(∂u̇/∂q, ∂u̇/∂u, ∂u̇/∂τ), each nv × nv per state, of u̇ = M⁻¹ (τ + τ_loads − b − g) (Pinocchio's
@@ -153,14 +180,17 @@ class DerivativeFunctions:
         self._forward_checks(q, params)
         h = self._h(q, u, None, params) + efforts(tau, self.nv, np.shape(q)[:-1])
         key = forward_key(self.eom)
-        return forward_derivatives(self.M(q, params), h,
-                                   lambda ud: self._dynamics_jacobian(key, q, u, ud, params), self.nv)
+        return forward_derivatives(
+            self.M(q, params), h, lambda ud: self._dynamics_jacobian(key, q, u, ud, params), self.nv
+        )
 
     def _forward_checks(self, q, params) -> None:
         """Refuse equations without M, b, g; warn near an Euler-angle singularity (one state)."""
         if not forward_dynamics(self.eom):
-            raise ModelError(f"forward_dynamics_derivatives needs M, b and g; derived: {list(self.eom.quantities)} "
-                             "(derive with quantities=None)")
+            raise ModelError(
+                f"forward_dynamics_derivatives needs M, b and g; derived: {list(self.eom.quantities)} "
+                "(derive with quantities=None)"
+            )
         if self._euler and np.ndim(q) == 1:
             self.euler_singularity(q, params=params)
 
@@ -175,7 +205,9 @@ class KaneRefusals:
     derivatives are those of `eg.derive`'s equations."""
 
     def _refuse(self, *args, **kwargs):
-        raise ModelError("inverse_dynamics, inverse_dynamics_derivatives and forward_dynamics_derivatives are "
-                         "generated for EquationsOfMotion (eg.derive(system)), not for Kane's equations")
+        raise ModelError(
+            "inverse_dynamics, inverse_dynamics_derivatives and forward_dynamics_derivatives are "
+            "generated for EquationsOfMotion (eg.derive(system)), not for Kane's equations"
+        )
 
     inverse_dynamics = inverse_dynamics_derivatives = forward_dynamics_derivatives = _refuse

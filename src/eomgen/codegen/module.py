@@ -127,7 +127,8 @@ def outputs(eom: EquationsOfMotion) -> list[Output]:
     if closure:
         found.append(Output("closure", "closure_residual", "the loops' and rolling disks' position "
                             "residuals, zero when closed", kin.closure_residual, closure))
-    return found + [Output(key, name, what, build, args=args) for key, name, what, build, args in derivatives(eom)]
+    return found + [Output(key, name, what, build, args=args)
+                    for key, name, what, build, args in derivatives(eom)]
 
 
 def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title: str = "model") -> str:

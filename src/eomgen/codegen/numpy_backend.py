@@ -68,7 +68,8 @@ PYTHON = Syntax(header="def {name}(q, u, ud, p, out, sin, cos, sqrt, m):", input
                 power="m.power({b}, {e})",
                 select="m.where({c}, {a}, {b})", sign="m.sign({x})", heaviside="m.heaviside({x}, {h})",
                 logic=("&", "|", "m.logical_not({c})"), nan="m.nan", functions=NUMPY_FUNCTIONS)
-C = Syntax(header="void {name}(const double *q, const double *u, const double *ud, const double *p, double *out)\n{{",
+C = Syntax(header="void {name}(const double *q, const double *u, const double *ud, const double *p, "
+                  "double *out)\n{{",
            input="    const double {var} = {arg}[{k}];", assign="    const double {var} = {expr};",
            out="    out[{ij}] = {expr};", mirror="    out[{ji}] = out[{ij}];", footer="}}",
            power="pow({b}, {e})",
@@ -77,9 +78,11 @@ C = Syntax(header="void {name}(const double *q, const double *u, const double *u
            nan="NAN", functions=C_FUNCTIONS,
            segment="static EOMGEN_NOINLINE void {name}(const double *q, const double *u, const double *ud, "
                    "const double *p, double *out, double *X)\n{{", call="    {name}(q, u, ud, p, out, X);")
-_TRIG_ARGS = "const double *q, const double *u, const double *ud, const double *p, const double *sinq, const double *cosq"
+_TRIG_ARGS = ("const double *q, const double *u, const double *ud, const double *p, const double *sinq, "
+              "const double *cosq")
 C_TRIG = replace(C, header="static void {name}(" + _TRIG_ARGS + ", double *out)\n{{", trig_q="{f}q[{k}]",
-                 segment="static EOMGEN_NOINLINE void {name}(" + _TRIG_ARGS + ", double *out, double *X)\n{{",
+                 segment="static EOMGEN_NOINLINE void {name}(" + _TRIG_ARGS
+                         + ", double *out, double *X)\n{{",
                  call="    {name}(q, u, ud, p, sinq, cosq, out, X);")
 
 
@@ -245,7 +248,8 @@ class FunctionWriter:
                 statements.append((None, syntax.out.format(i=i, j=j, ij=i * cols + j, expr=self.printer(e))))
                 ops += self.printer.ops - before
                 if symmetric and i != j:
-                    statements.append((None, syntax.mirror.format(i=i, j=j, ij=i * cols + j, ji=j * cols + i)))
+                    statements.append((None, syntax.mirror.format(i=i, j=j, ij=i * cols + j,
+                                                                  ji=j * cols + i)))
         if syntax.segment and len(statements) > SEGMENT:
             return self._parts(name, preamble, statements), (rows, cols), ops
         lines = [syntax.header.format(name=name), *preamble.values(), *(text for _, text in statements),
@@ -258,7 +262,8 @@ class FunctionWriter:
         syntax = self.syntax
         chunks = [statements[k:k + SEGMENT] for k in range(0, len(statements), SEGMENT)]
         where = {v: c for c, chunk in enumerate(chunks) for v, _ in chunk if v}
-        reads = [set(NAMES.findall(" ".join(text.split("=", 1)[1] for _, text in chunk))) for chunk in chunks]
+        reads = [set(NAMES.findall(" ".join(text.split("=", 1)[1] for _, text in chunk)))
+                 for chunk in chunks]
         slots: dict[str, int] = {}
         for c, names in enumerate(reads):
             for v in sorted(names):
@@ -267,7 +272,8 @@ class FunctionWriter:
         parts, calls = [NOINLINE], []
         for c, (chunk, names) in enumerate(zip(chunks, reads)):
             names |= {x for v in names if v in preamble for x in NAMES.findall(preamble[v].split("=", 1)[1])}
-            lines = [syntax.segment.format(name=f"{name}_{c}"), *(line for v, line in preamble.items() if v in names),
+            lines = [syntax.segment.format(name=f"{name}_{c}"),
+                     *(line for v, line in preamble.items() if v in names),
                      *(f"    const double {v} = X[{slots[v]}];" for v in sorted(names)
                        if where.get(v, c) < c)]
             for v, text in chunk:
@@ -276,7 +282,8 @@ class FunctionWriter:
                     lines.append(f"    X[{slots[v]}] = {v};")
             parts.append("\n".join(lines + [syntax.footer.format()]))
             calls.append(syntax.call.format(name=f"{name}_{c}"))
-        main = [syntax.header.format(name=name), f"    double X[{max(len(slots), 1)}];", *calls, syntax.footer.format()]
+        main = [syntax.header.format(name=name), f"    double X[{max(len(slots), 1)}];", *calls,
+                syntax.footer.format()]
         return "\n\n".join(parts) + "\n\n" + "\n".join(main) + "\n"
 
 

@@ -82,8 +82,8 @@ class Recursion:
             f = sub.add_matrix(scale(b.mass, a_S))
             N[b] = matmul(b.inertia, al) + cross(w, sub.add_matrix(matmul(b.inertia, w))) + cross(c, f)
             F[b] = f
-        for point, F_ext, T_ext in (w for load in self.kin.system.loads for w in applied_wrenches(self.kin, load)
-                                    if loads):
+        for point, F_ext, T_ext in (w for load in self.kin.system.loads if loads
+                                    for w in applied_wrenches(self.kin, load)):
             if point.body is not None:  # a force on the world moves nothing
                 R = self.kin.R[point.body]
                 f = sub.add_matrix(matmul(R.T, sub.add_matrix(F_ext)))
