@@ -117,7 +117,7 @@ int main(int, char **argv)
     std::printf("%.4f %.4f\n", best_rnea, best_aba);
 }
 """
-PREFIX = Path(pin.__file__).parents[3] / "cmeel.prefix"  # the pin wheel's headers and libraries
+PREFIX = next(p for p in Path(pin.__file__).parents if p.name == "cmeel.prefix")  # the pin wheel's files
 # Pinocchio's compile definitions (its CMake package), and the instantiations its library holds
 DEFINES = [
     "-DBOOST_MPL_LIMIT_LIST_SIZE=30",

@@ -178,10 +178,10 @@ class CompiledDerivatives:
     def _build_derivatives(self) -> None:
         """ID_derivatives, and with M, b, g: FD_jacobian (with loads), FD_parts ([M | h]) and FD_derivatives,
         the C function that combines them."""
-        from .c_backend import extension_functions
-
         if "ID_derivatives" in self.functions:
             return
+        from .c_backend import extension_functions  # which imports this module
+
         eom, build = self.eom, jacobians(self.eom)
         keys = ["ID_derivatives"]
         if forward_dynamics(eom):
