@@ -137,6 +137,14 @@ def numeric_arm(rng, joints=ARM6, branch_at: int | None = None):
     return system, spec
 
 
+def close(actual, expected, rtol: float, what: str) -> None:
+    """|actual − expected| ≤ rtol · max(1, max |expected|) (relative to the size of the array), finite."""
+    actual, expected = np.asarray(actual, float), np.asarray(expected, float)
+    assert actual.shape == expected.shape, f"{what}: shape {actual.shape} != {expected.shape}"
+    assert np.all(np.isfinite(actual)), f"{what}: not finite: {actual}"
+    np.testing.assert_allclose(actual, expected, rtol=0, atol=rtol * max(1.0, np.abs(expected).max()), err_msg=what)
+
+
 # every joint type but the free flyer, for a chain of three bodies (`joint_chain`)
 JOINTS = {
     "helical": lambda: eg.Helical("h", axis=(0, 1, 0), pitch=0.2),

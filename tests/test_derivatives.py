@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 
 import eomgen as eg
 import strategies as S
-from models import JOINTS, joint_chain
+from models import JOINTS, close, joint_chain
 from eomgen.model import pinocchio_configuration
 from eomgen.verify import to_pinocchio
 
@@ -29,23 +29,6 @@ SETTINGS = dict(
     phases=[Phase.generate],
     suppress_health_check=list(HealthCheck),
 )
-
-
-@pytest.fixture(autouse=True, scope="module")
-def _cache(tmp_path_factory):
-    """Compiled extensions go to a temp folder of this run."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("EOMGEN_CACHE", str(tmp_path_factory.mktemp("eomgen_cache")))
-        yield
-
-
-def close(actual, expected, tol: float, what: str) -> None:
-    """|actual − expected| ≤ tol · max(1, max |expected|): relative to the size of the matrix."""
-    actual, expected = np.asarray(actual, float), np.asarray(expected, float)
-    assert actual.shape == expected.shape, f"{what}: shape {actual.shape} != {expected.shape}"
-    np.testing.assert_allclose(
-        actual, expected, rtol=0, atol=tol * max(1.0, np.abs(expected).max()), err_msg=what
-    )
 
 
 def pinocchio_values(model, qp, u, ud, tau, data=None) -> list[np.ndarray]:

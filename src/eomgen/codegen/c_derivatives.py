@@ -162,18 +162,25 @@ class CompiledDerivatives:
             self._build_derivatives()
         elif self._euler:
             self._forward_checks(q, params)
-        if tau is not None and np.ndim(q) == 2 and np.ndim(tau) == 1:  # one τ for all states
-            tau = np.ascontiguousarray(efforts(tau, self.nv, np.shape(q)[:-1]))
+        function, p = self.functions["FD_derivatives"].function, self._pvec(params, "FD_derivatives")
         try:
-            out = self.functions["FD_derivatives"].function(q, u, tau, self._pvec(params, "FD_derivatives"))
-        except ValueError as error:  # the extension checks τ where it reads u̇
+            try:
+                out = function(q, u, tau, p)
+            except ValueError:
+                if tau is None or np.ndim(tau) != 1 or np.ndim(q) != 2:
+                    raise
+                out = function(q, u, np.ascontiguousarray(efforts(tau, self.nv, np.shape(q)[:-1])), p)
+        except ValueError as error:  # one τ for all states, else as the extension reads u̇ (named ud)
             text = str(error)
             raise ModelError("tau" + text[2:] if text.startswith("ud:") else text) from None
-        first = out[..., 0, 2 * self.nv]  # NaN, as every output, where M is not positive definite
-        if np.isnan(first).any() if out.ndim == 3 else first != first:
-            raise ModelError("forward_dynamics_derivatives: M is not positive definite at this state")
         nv = self.nv
-        return out[..., :nv], out[..., nv : 2 * nv], out[..., 2 * nv :]
+        if out.ndim == 2:  # one state (sliced without an ellipsis: the common call, kept cheap)
+            if out[0, 2 * nv] != out[0, 2 * nv]:  # NaN, as every output, where M is not positive definite
+                raise ModelError("forward_dynamics_derivatives: M is not positive definite at this state")
+            return out[:, :nv], out[:, nv:2 * nv], out[:, 2 * nv:]
+        if np.isnan(out[:, 0, 2 * nv]).any():
+            raise ModelError("forward_dynamics_derivatives: M is not positive definite at this state")
+        return out[..., :nv], out[..., nv:2 * nv], out[..., 2 * nv:]
 
     def _build_derivatives(self) -> None:
         """ID_derivatives, and with M, b, g: FD_jacobian (with loads), FD_parts ([M | h]) and FD_derivatives,
