@@ -196,6 +196,7 @@ class CompiledDerivatives:
             build["FD_parts"] = lambda: forward_parts(eom)
         written = []
         for i, key in enumerate(keys):
+            self._built.setdefault(key, (build[key], False))  # for `reference`
             source, shape, ops = self._c.source(f"e{i}", build[key]())
             written.append((key, source, shape, ops, self._c.trig_indices))
         if forward_dynamics(eom):
