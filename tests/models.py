@@ -135,3 +135,38 @@ def numeric_arm(rng, joints=ARM6, branch_at: int | None = None):
         spec.append(dict(kind=kind, axis=np.array(axis, float) / np.linalg.norm(axis), R=R, p=p, m=m, c=c, I=I,
                          parent=system.bodies.index(parent.parent) if parent.parent else -1))
     return system, spec
+
+
+def close(actual, expected, rtol: float, what: str) -> None:
+    """|actual − expected| ≤ rtol · max(1, max |expected|) (relative to the size of the array), finite."""
+    actual, expected = np.asarray(actual, float), np.asarray(expected, float)
+    assert actual.shape == expected.shape, f"{what}: shape {actual.shape} != {expected.shape}"
+    assert np.all(np.isfinite(actual)), f"{what}: not finite: {actual}"
+    np.testing.assert_allclose(actual, expected, rtol=0, atol=rtol * max(1.0, np.abs(expected).max()), err_msg=what)
+
+
+# every joint type but the free flyer, for a chain of three bodies (`joint_chain`)
+JOINTS = {
+    "helical": lambda: eg.Helical("h", axis=(0, 1, 0), pitch=0.2),
+    "universal": lambda: eg.Universal("uj", axis1=(1, 0, 0), axis2=(0, 0, 1)),
+    "cylindrical": lambda: eg.Cylindrical("c", axis=(0, 1, 1)),
+    "translation": lambda: eg.Translation("t"),
+    "spherical_zyx": lambda: eg.Spherical("s", "zyx"),
+    "spherical_quaternion": lambda: eg.Spherical("s"),
+    "planar": lambda: eg.Planar("p"),
+    "mimic": lambda: eg.Revolute("r1", axis=(1, 0, 0), mimic=("r0", -1.5, 0.3)),
+}
+
+
+def joint_chain(joint) -> eg.System:
+    """Three bodies: a revolute about z at the root, `joint` off its axis and turned, a revolute about x."""
+    s = eg.System(gravity=(0, 0, -9.81))
+    a = s.add_body("a", joint=eg.Revolute("r0", axis=(0, 0, 1)), mass=0.9, com=(0.1, 0, 0.05),
+                   inertia=sp.diag(0.02, 0.03, 0.04))
+    b = s.add_body("b", parent=a, joint=joint, mass=1.3, com=(0.1, 0.2, -0.3),
+                   inertia=sp.Matrix([[0.3, 0.01, 0.02], [0.01, 0.4, 0.03], [0.02, 0.03, 0.5]]),
+                   placement=eg.Placement(rotation=sp.Matrix([[1, 0, 0], [0, 0, -1], [0, 1, 0]]),
+                                          translation=(0.3, 0.1, 0.2)))
+    s.add_body("c", parent=b, joint=eg.Revolute("r2", axis=(1, 0, 0)), mass=0.7, com=(0.2, 0, 0.1),
+               inertia=sp.diag(0.1, 0.2, 0.15), placement=eg.Placement(translation=(0.3, -0.1, 0.2)))
+    return s

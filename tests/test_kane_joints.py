@@ -13,35 +13,10 @@ from scipy.spatial.transform import Rotation
 
 import eomgen as eg
 import kane_systems as K
+from models import JOINTS, joint_chain
 from eomgen.model.rotations import quaternion_rotation
 from eomgen.model.urdf import pinocchio_configuration
 from eomgen.verify import to_pinocchio
-
-JOINTS = {
-    "helical": lambda: eg.Helical("h", axis=(0, 1, 0), pitch=0.2),
-    "universal": lambda: eg.Universal("uj", axis1=(1, 0, 0), axis2=(0, 0, 1)),
-    "cylindrical": lambda: eg.Cylindrical("c", axis=(0, 1, 1)),
-    "translation": lambda: eg.Translation("t"),
-    "spherical_zyx": lambda: eg.Spherical("s", "zyx"),
-    "spherical_quaternion": lambda: eg.Spherical("s"),
-    "planar": lambda: eg.Planar("p"),
-    "mimic": lambda: eg.Revolute("r1", axis=(1, 0, 0), mimic=("r0", -1.5, 0.3)),
-}
-
-
-def chain(joint) -> eg.System:
-    """Three bodies: a revolute about z at the root, `joint` off its axis and turned, a revolute about x."""
-    s = eg.System(gravity=(0, 0, -9.81))
-    a = s.add_body("a", joint=eg.Revolute("r0", axis=(0, 0, 1)), mass=0.9, com=(0.1, 0, 0.05),
-                   inertia=sp.diag(0.02, 0.03, 0.04))
-    b = s.add_body("b", parent=a, joint=joint, mass=1.3, com=(0.1, 0.2, -0.3),
-                   inertia=sp.Matrix([[0.3, 0.01, 0.02], [0.01, 0.4, 0.03], [0.02, 0.03, 0.5]]),
-                   placement=eg.Placement(rotation=sp.Matrix([[1, 0, 0], [0, 0, -1], [0, 1, 0]]),
-                                          translation=(0.3, 0.1, 0.2)))
-    s.add_body("c", parent=b, joint=eg.Revolute("r2", axis=(1, 0, 0)), mass=0.7, com=(0.2, 0, 0.1),
-               inertia=sp.diag(0.1, 0.2, 0.15), placement=eg.Placement(translation=(0.3, -0.1, 0.2)))
-    return s
-
 
 def accelerations(f, q, w, params=None) -> np.ndarray:
     """ẇ from Kane's M̃ ẇ = f̃ (batched)."""
@@ -53,7 +28,7 @@ def test_joint_equals_recursive_and_pinocchio(name):
     """u̇ of Kane's equations (w = u) = the recursive method's forward dynamics = Pinocchio's ABA (a mimic:
     M⁻¹ (−nle) by CRBA, as Pinocchio 4.1's aba refuses mimic joints); and q̇ = qdot(q, w) is the rate of
     Pinocchio's configuration (central differences of pin.integrate)."""
-    system = chain(JOINTS[name]())
+    system = joint_chain(JOINTS[name]())
     k = eg.kane(system)
     f, recursive = eg.codegen(k), eg.codegen(eg.derive(system, method="recursive"))
     model = to_pinocchio(system)

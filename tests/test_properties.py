@@ -23,6 +23,7 @@ from hypothesis import strategies as st
 
 import eomgen as eg
 import strategies as S
+from models import close
 
 METHODS = ["projected_newton_euler", "lagrange", "free_cut", "recursive"]
 # Shrinking a failure re-derives the model hundreds of times (minutes): on only with
@@ -39,13 +40,6 @@ def _cache(tmp_path_factory):
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("EOMGEN_CACHE", str(tmp_path_factory.mktemp("eomgen_cache")))
         yield
-
-
-def close(actual, expected, rtol: float, what: str) -> None:
-    actual, expected = np.asarray(actual, float), np.asarray(expected, float)
-    assert actual.shape == expected.shape, f"{what}: shape {actual.shape} != {expected.shape}"
-    assert np.all(np.isfinite(actual)), f"{what}: not finite: {actual}"
-    np.testing.assert_allclose(actual, expected, rtol=0, atol=rtol * max(1.0, np.abs(expected).max()), err_msg=what)
 
 
 def states(tree, n: int, seed: int = 0):

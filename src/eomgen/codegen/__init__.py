@@ -14,6 +14,7 @@ from ..errors import ModelError
 from ..methods.kane import KaneEquations
 from ..state import random_states
 from .contacts import contact_dynamics, support_projector
+from .derivative_functions import DerivativeFunctions
 from .kinematic_functions import KinematicFunctions
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
@@ -77,9 +78,10 @@ def eager(eom: EquationsOfMotion) -> list[str]:
     return [k for k in eom.compact if k in ("M", "b", "g", "nle") or k.split(":")[0] in ("J", "Jdot_u")]
 
 
-class NumericEoM(KinematicFunctions, StateFunctions):
+class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
     """Numeric M(q), b(q, u), g(q), tau(q, u), T(q, u), U(q), frame Jacobians, forward dynamics, the
-    state equations `rhs` and (free cut) joint reactions of one `EquationsOfMotion`.
+    state equations `rhs`, the inverse dynamics and the derivatives of the dynamics, and (free cut) joint
+    reactions of one `EquationsOfMotion`.
 
     q and u are arrays of shape (n,), or (N, n) for N states at once (evaluated without a Python
     loop). Symbolic parameters are given by name in a mapping {name: value} in each call (a function

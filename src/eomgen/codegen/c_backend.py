@@ -13,6 +13,7 @@ from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..progress import progress
 from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer
+from .c_derivatives import CompiledDerivatives, plain_function, plain_parts
 from .extension import build, compiler, python_headers
 from .kinematic_functions import placement
 from .module import outputs
@@ -20,7 +21,7 @@ from .numpy_backend import C, C_TRIG
 from .parameters import Parameters
 
 
-class CompiledEoM(NumericEoM):
+class CompiledEoM(CompiledDerivatives, NumericEoM):
     """`NumericEoM` with every function compiled from C (per call and batched). M, b, g, nle and the
     frames derived with them are built in one extension module up front; the others in a module each
     on first use."""
@@ -119,15 +120,18 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
                    f"J̇ u of frame {frame} ([linear; angular])", []),
                   (f"X_{k}", placement(eom.kinematics, frame), False,
                    f"placement [R | p] (3 x 4) of frame {frame} in the world", [])]
-    parts += [(out.key, out.build(), False, out.what, out.rows) for out in outputs(eom)]
-    body, decls = ["#include <math.h>", f'#include "{name}.h"', ""], []
+    parts += [(out.key, out.build(), False, out.what, out.rows) for out in outputs(eom)] + plain_parts(eom)
+    body, decls, sources = ["#include <math.h>", f'#include "{name}.h"', ""], [], {}
     for key, expr, symmetric, what, names in progress(parts, "writing C", unit="function"):
-        source, (rows, cols), _ = c.source(f"{name}_{key}", expr, symmetric)
+        source, (rows, cols), _ = sources[key] = c.source(f"{name}_{key}", expr, symmetric)
         body.append(source)
         used = "; ".join(f"{arg}[{', '.join(map(str, ks))}]" for arg, ks in reads(source).items() if ks)
         named = "".join(f"\n *   row {r}: {comment(row)}" for r, row in enumerate(names))
         decls.append(f"/* {comment(what)}{named}\n * out: {rows} x {cols}, row-major; reads "
-                     f"{used or 'nothing'} */\n{source.split(chr(10))[0]};")
+                     f"{used or 'nothing'} */\n{C.header.format(name=f'{name}_{key}').split(chr(10))[0]};")
+    if forward := plain_function(eom, name, {key: source for key, (source, _, _) in sources.items()}):
+        body.append(forward[0])
+        decls.append(forward[1])
     c_path, h_path = directory / f"{name}.c", directory / f"{name}.h"
     c_path.write_text("\n".join(body))
     h_path.write_text(header(eom, name) + "\n\n".join(decls) + "\n\n#endif\n")

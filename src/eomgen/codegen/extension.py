@@ -250,7 +250,7 @@ def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: 
     parts = [f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n", PRELUDE]
     table = []
     for i, (source, (rows, cols), trig) in enumerate(functions):
-        parts.append("static " + source)
+        parts.append(source)  # static functions (`numpy_backend.C_TRIG`)
         parts.append(f"static const int t{i}[] = {{{', '.join(map(str, trig or [0]))}}};\n")
         for kind, vector in (("m", 0), ("v", 1)):
             parts.append(f"static PyObject *{kind}{i}(PyObject *self, PyObject *const *args, Py_ssize_t nargs)\n"

@@ -15,6 +15,7 @@ import sympy as sp
 from ..errors import ModelError
 from ..state import unit_quaternions
 from . import Generated, NumericEoM
+from .derivative_functions import KaneRefusals
 from .c_backend import CompiledEoM, extension_functions
 from .extension import compiler, python_headers
 from .numpy_backend import C_TRIG, PYTHON, FunctionWriter, compile_function
@@ -25,7 +26,7 @@ from .runtime import runtime_namespace
 _call = runtime_namespace()["_call"]
 
 
-class NumericKane:
+class NumericKane(KaneRefusals):
     """Numeric Kane's equations in the independent speeds w (here: w_ind): mass_matrix(q, w), forcing(q, w),
     qdot(q, w) (the coordinate rates, nq of them), joint_speeds(q, w) (u, n of them), dependent_speeds(q, w),
     active_forces(q, w), `rhs(t, x, tau)` for x = [q, w_ind] (solve_ivp), its `energy` and `power`; with

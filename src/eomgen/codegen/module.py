@@ -13,6 +13,8 @@ from .. import __version__, centroidal
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from . import QUANTITIES, NumericEoM, equations, quantities
+from .derivative_functions import module_api
+from .derivative_functions import outputs as derivatives
 from .kinematic_functions import placement
 from .parameters import RUNTIME as PARAMETER_RUNTIME
 from .runtime import RUNTIME
@@ -71,7 +73,7 @@ def forward_dynamics(q, u, tau_a=None, params=None):
 
 
 ARGS = {"M": "q", "g": "q", "U": "q"}  # the rest: q, u
-MATRICES = ("M", "J_c", "J_com", "A_G")  # the rest are vectors (or T, U numbers)
+MATRICES = ("M", "J_c", "J_com", "A_G", "ID_derivatives", "FD_jacobian")  # the rest: vectors (T, U numbers)
 
 
 @dataclass(frozen=True)
@@ -125,7 +127,8 @@ def outputs(eom: EquationsOfMotion) -> list[Output]:
     if closure:
         found.append(Output("closure", "closure_residual", "the loops' and rolling disks' position "
                             "residuals, zero when closed", kin.closure_residual, closure))
-    return found
+    return found + [Output(key, name, what, build, args=args)
+                    for key, name, what, build, args in derivatives(eom)]
 
 
 def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title: str = "model") -> str:
@@ -178,7 +181,7 @@ def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title
     parts += [_api(key, f.functions[key].shape, f.functions[key].params_used) for key in keys]
     parts += [_api(out.key, f.functions[out.key].shape, f.functions[out.key].params_used, out.name,
                    f"{out.what} ({ROWS[out.key]})" if out.rows else out.what, out.args) for out in extra]
-    parts += [_JACOBIAN_API, _PLACEMENT_API]
+    parts += [_JACOBIAN_API, _PLACEMENT_API, *module_api(eom)]
     if any(out.key == "A_G" for out in extra):
         parts.append(_CENTROIDAL_MOMENTUM)
     if {"M", "b", "g"} <= set(keys):

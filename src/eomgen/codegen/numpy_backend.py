@@ -1,7 +1,9 @@
 """Python/NumPy source for the equations of motion.
 
 A generated function `f(q, u, ud, p, out, sin, cos, sqrt, m)` evaluates, in order, the intermediates its
-outputs need and writes the outputs into `out` (shape (rows, cols) + batch). It runs with math's sin,
+outputs need and writes the outputs into `out` (shape (rows, cols) + batch), each output as soon as the
+intermediates it reads are known (short lives: faster to compile and to run). A long C function is
+written as parts of `SEGMENT` statements, called in turn (see `FunctionWriter._parts`). It runs with math's sin,
 cos, sqrt and the runtime's `_Scalar` as `m` (one state, Python floats: fast per call), with numpy's and
 the numpy module (states along the last axis: batched) or with mpmath's (the reference); `m` holds the
 other functions under numpy's names (m.tan, m.arctan2, m.where, ...). Every branch of a Piecewise is
@@ -11,6 +13,7 @@ Generated names are ours (_q0, _u0, _ud0, _p0, _x0, ...): no text of the model (
 symbol names) is ever printed into the source, so running it can do nothing but arithmetic."""
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, replace
 from functools import reduce
 
@@ -45,6 +48,20 @@ class Syntax:
     nan: str  # a Piecewise's value where no condition holds
     functions: dict[str, str]  # sympy's function name: the name printed
     trig_q: str = "{f}({x})"  # sin / cos of q[k]; the extension reads them from arrays (sinq, cosq)
+    segment: str = ""  # C: the header of a part of a long function (`FunctionWriter.source`), {name}
+    call: str = ""  # the call of a part, {name}
+
+
+# a long C function is split in parts the compiler does not merge back: its time grows faster than the length
+NOINLINE = """#ifndef EOMGEN_NOINLINE
+#if defined(__GNUC__)
+#define EOMGEN_NOINLINE __attribute__((noinline))
+#else
+#define EOMGEN_NOINLINE
+#endif
+#endif"""
+SEGMENT = 2500  # statements per part
+NAMES = re.compile(r"\b_[A-Za-z_]+[0-9]+\b")  # the variables of generated code: _x3, _q0, _sin_q1, ...
 
 
 PYTHON = Syntax(header="def {name}(q, u, ud, p, out, sin, cos, sqrt, m):", input="    {var} = {arg}[{k}]",
@@ -53,15 +70,22 @@ PYTHON = Syntax(header="def {name}(q, u, ud, p, out, sin, cos, sqrt, m):", input
                 power="m.power({b}, {e})",
                 select="m.where({c}, {a}, {b})", sign="m.sign({x})", heaviside="m.heaviside({x}, {h})",
                 logic=("&", "|", "m.logical_not({c})"), nan="m.nan", functions=NUMPY_FUNCTIONS)
-C = Syntax(header="void {name}(const double *q, const double *u, const double *ud, const double *p, double *out)\n{{",
+C = Syntax(header="void {name}(const double *q, const double *u, const double *ud, const double *p, "
+                  "double *out)\n{{",
            input="    const double {var} = {arg}[{k}];", assign="    const double {var} = {expr};",
            out="    out[{ij}] = {expr};", mirror="    out[{ji}] = out[{ij}];", footer="}}",
            power="pow({b}, {e})",
            select="({c} ? {a} : {b})", sign="(({x} > 0) ? 1.0 : ({x} < 0) ? -1.0 : 0.0 * {x})",
            heaviside="(({x} > 0) ? 1.0 : ({x} < 0) ? 0.0 : {h} + 0.0 * {x})", logic=("&&", "||", "(!{c})"),
-           nan="NAN", functions=C_FUNCTIONS)
-C_TRIG = replace(C, header="void {name}(const double *q, const double *u, const double *ud, const double *p, "
-                           "const double *sinq, const double *cosq, double *out)\n{{", trig_q="{f}q[{k}]")
+           nan="NAN", functions=C_FUNCTIONS,
+           segment="static EOMGEN_NOINLINE void {name}(const double *q, const double *u, const double *ud, "
+                   "const double *p, double *out, double *X)\n{{", call="    {name}(q, u, ud, p, out, X);")
+_TRIG_ARGS = ("const double *q, const double *u, const double *ud, const double *p, const double *sinq, "
+              "const double *cosq")
+C_TRIG = replace(C, header="static void {name}(" + _TRIG_ARGS + ", double *out)\n{{", trig_q="{f}q[{k}]",
+                 segment="static EOMGEN_NOINLINE void {name}(" + _TRIG_ARGS
+                         + ", double *out, double *X)\n{{",
+                 call="    {name}(q, u, ud, p, sinq, cosq, out, X);")
 
 
 class Printer:
@@ -198,29 +222,71 @@ class FunctionWriter:
         trig = set().union(*(self.sub.definitions[s].atoms(sp.sin, sp.cos) for s in needed),
                            *(e.atoms(sp.sin, sp.cos) for e in exprs)) & set(self.trig)
         syntax = self.syntax
-        lines = [syntax.header.format(name=name)]
+        preamble = {}  # variable: the line that reads it from the inputs
         for arg, symbols in self.inputs.items():
-            lines += [syntax.input.format(var=f"_{arg}{k}", arg=arg, k=k) for k, s in enumerate(symbols) if s in used]
+            preamble.update({f"_{arg}{k}": syntax.input.format(var=f"_{arg}{k}", arg=arg, k=k)
+                             for k, s in enumerate(symbols) if s in used})
         ops = len(trig)
         for t in sorted(trig, key=lambda t: self.trig[t]):
             f, x = type(t).__name__, t.args[0]
             trig_q = syntax.trig_q if x in self._q_index else "{f}({x})"
-            lines.append(syntax.assign.format(var=self.trig[t], expr=trig_q.format(f=f, x=self.printer.names[x],
-                                                                                  k=self._q_index.get(x))))
+            preamble[self.trig[t]] = syntax.assign.format(var=self.trig[t], expr=trig_q.format(
+                f=f, x=self.printer.names[x], k=self._q_index.get(x)))
         self.trig_indices = sorted({self._q_index[t.args[0]] for t in trig if t.args[0] in self._q_index})
-        for s in needed:
-            text, n = self._line(s)
-            lines.append(text)
-            ops += n
+        position = {s: k for k, s in enumerate(needed)}
+        after: dict[int, list] = {}  # each output once the last intermediate it reads is known (short lives)
         for (i, j), e in zip(cells, exprs):
             if e != 0:
+                after.setdefault(max((position[s] for s in e.free_symbols if s in position), default=-1),
+                                 []).append((i, j, e))
+        statements = []  # (the variable defined or None, the line)
+        for k in range(-1, len(needed)):
+            if k >= 0:
+                text, n = self._line(needed[k])
+                statements.append((self.printer.names[needed[k]], text))
+                ops += n
+            for i, j, e in after.get(k, []):
                 before = self.printer.ops
-                lines.append(syntax.out.format(i=i, j=j, ij=i * cols + j, expr=self.printer(e)))
+                statements.append((None, syntax.out.format(i=i, j=j, ij=i * cols + j, expr=self.printer(e))))
                 ops += self.printer.ops - before
                 if symmetric and i != j:
-                    lines.append(syntax.mirror.format(i=i, j=j, ij=i * cols + j, ji=j * cols + i))
-        lines.append(syntax.footer.format())
+                    statements.append((None, syntax.mirror.format(i=i, j=j, ij=i * cols + j,
+                                                                  ji=j * cols + i)))
+        if syntax.segment and len(statements) > SEGMENT:
+            return self._parts(name, preamble, statements), (rows, cols), ops
+        lines = [syntax.header.format(name=name), *preamble.values(), *(text for _, text in statements),
+                 syntax.footer.format()]
         return "\n".join(lines) + "\n", (rows, cols), ops
+
+    def _parts(self, name: str, preamble: dict[str, str], statements: list) -> str:
+        """A long C function as parts of `SEGMENT` statements, each its own function, called in turn; the
+        values a later part reads pass through the array X."""
+        syntax = self.syntax
+        chunks = [statements[k:k + SEGMENT] for k in range(0, len(statements), SEGMENT)]
+        where = {v: c for c, chunk in enumerate(chunks) for v, _ in chunk if v}
+        reads = [set(NAMES.findall(" ".join(text.split("=", 1)[1] for _, text in chunk)))
+                 for chunk in chunks]
+        slots: dict[str, int] = {}
+        for c, names in enumerate(reads):
+            for v in sorted(names):
+                if where.get(v, c) < c:
+                    slots.setdefault(v, len(slots))
+        parts, calls = [NOINLINE], []
+        for c, (chunk, names) in enumerate(zip(chunks, reads)):
+            names |= {x for v in names if v in preamble for x in NAMES.findall(preamble[v].split("=", 1)[1])}
+            lines = [syntax.segment.format(name=f"{name}_{c}"),
+                     *(line for v, line in preamble.items() if v in names),
+                     *(f"    const double {v} = X[{slots[v]}];" for v in sorted(names)
+                       if where.get(v, c) < c)]
+            for v, text in chunk:
+                lines.append(text)
+                if v in slots:
+                    lines.append(f"    X[{slots[v]}] = {v};")
+            parts.append("\n".join(lines + [syntax.footer.format()]))
+            calls.append(syntax.call.format(name=f"{name}_{c}"))
+        main = [syntax.header.format(name=name), f"    double X[{max(len(slots), 1)}];", *calls,
+                syntax.footer.format()]
+        return "\n\n".join(parts) + "\n\n" + "\n".join(main) + "\n"
 
 
 def compile_function(source: str, label: str, name: str = "f"):

@@ -26,7 +26,7 @@ def applied_wrenches(kin: Kinematics, load) -> list[tuple[Point, sp.Matrix, sp.M
         return [(Point(load.body, zero), zero, world(kin, load.torque, load.body, load.in_body_frame))]
     a, b = load.a, load.b
     d = kin.sub.add_matrix(kin.position(a) - kin.position(b))
-    length = sp.sqrt((d.T * d)[0])
+    length = kin.sub.add(sp.sqrt((d.T * d)[0]))
     zero_length_spring = isinstance(load, Spring) and load.rest_length.is_zero  # F = −k d: no direction
     if not zero_length_spring and getattr(load, "force", True) is not None:
         _check_line(kin, load.name, d)
@@ -37,8 +37,8 @@ def applied_wrenches(kin: Kinematics, load) -> list[tuple[Point, sp.Matrix, sp.M
         F = -load.stiffness * (d if load.rest_length.is_zero else (length - load.rest_length) / length * d)
         T = zero
     elif isinstance(load, Damper):
-        n_ab = d / length
-        l_dot = (n_ab.T * (kin.velocity(a) - kin.velocity(b)))[0]
+        n_ab = kin.sub.add_matrix(d / length)
+        l_dot = kin.sub.add((n_ab.T * (kin.velocity(a) - kin.velocity(b)))[0])
         F, T = -load.damping * l_dot * n_ab, zero
     else:
         raise TypeError(f"unknown load type {type(load).__name__}")
@@ -89,8 +89,10 @@ def add_armature(kin: Kinematics, M: sp.Matrix) -> None:
 
 
 def generalized_force(kin: Kinematics, load) -> sp.Matrix:
-    """τ = Σ J_Pᵀ F + J_Rᵀ T over the forces and torques of one load (action and reaction)."""
+    """τ = Σ J_Pᵀ F + J_Rᵀ T over the forces and torques of one load (action and reaction); F and T named
+    first, as every τ_i reads them (and so do their derivatives)."""
     tau = sp.zeros(kin.n, 1)
     for point, F, T in applied_wrenches(kin, load):
+        F, T = kin.sub.add_matrix(F), kin.sub.add_matrix(T)
         tau += matmul(kin.J_P(point).T, F) + matmul(kin.J_R(point.body).T, T)
     return tau

@@ -1,16 +1,20 @@
 """Recursive algorithms in body frames (Featherstone): the composite rigid body algorithm for M and
-the recursive Newton-Euler algorithm for b and g. The cheapest code for numeric robots: joint axes
-are constant in their own frames, so every projection picks a few entries.
+the recursive Newton-Euler algorithm for b, g and the inverse dynamics τ = M u̇ + b + g in one pass.
+The cheapest code for numeric robots: joint axes are constant in their own frames, so every projection
+picks a few entries.
 
 Body i's frame sits in its parent's as x_p = R_i x_i + t_i (placement and joint motion).
 
-RNEA (u̇ = 0), body axes, with the joint's motion (v, ω) = Σ_k S_k u_k and bias (a_rel, α_rel)
+RNEA, body axes, with the joint's motion (v, ω) = Σ_k S_k u_k and bias (a_rel, α_rel)
 (`Joint.subspace`, `Joint.bias`, both in body axes) and Ω' = R_iᵀ Ω_p:
-    Ω_i = Ω' + ω,   α_i = R_iᵀ α_p + Ω' × ω + α_rel,
-    a_i = R_iᵀ (a_p + α_p × t_i + Ω_p × (Ω_p × t_i)) + 2 Ω' × v + a_rel,
+    Ω_i = Ω' + ω,   α_i = R_iᵀ α_p + Ω' × ω + α_rel + Σ_k ω_k u̇_k,
+    a_i = R_iᵀ (a_p + α_p × t_i + Ω_p × (Ω_p × t_i)) + 2 Ω' × v + a_rel + Σ_k v_k u̇_k,
     f_i = m a_S,  n_i = Θ α_i + Ω_i × Θ Ω_i + c × f_i,   a_S = a_i + α_i × c + Ω_i × (Ω_i × c),
-    F_i = f_i + Σ_c R_c F_c,  N_i = n_i + Σ_c (R_c N_c + t_c × R_c F_c),  b_k = v_k · F_i + ω_k · N_i;
-    g is the same with u = 0 and the base accelerating with −g⃗.
+    F_i = f_i + Σ_c R_c F_c,  N_i = n_i + Σ_c (R_c N_c + t_c × R_c F_c),  τ_k = v_k · F_i + ω_k · N_i,
+the base accelerating with −g⃗ (gravity as an acceleration of the world). b is the pass with u̇ = 0 and
+g⃗ = 0, g the pass with u = u̇ = 0; the inverse dynamics adds the armature's I_a u̇ (as M's diagonal).
+Every vector is named before it is rotated or crossed, which keeps the code and its derivatives
+(`eomgen.derivatives`) short.
 CRBA: composite (m, h = m c, I_O) from the leaves, moved to the parent by
     h' = R h + m t,  I_O' = R I_O Rᵀ + m (|t|² 1 − t tᵀ) + 2 (t · R h) 1 − t (R h)ᵀ − (R h) tᵀ;
     the momentum of the composite moved by u_j = 1, (m v_j + ω_j × h, I_O ω_j + h × v_j), carried to
@@ -22,80 +26,98 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
 from ..linalg import cross, dot, matmul, scale
-from .applied import add_armature, generalized_force, potential_energy
+from .applied import add_armature, applied_wrenches, armature, generalized_force, potential_energy
 
 
-def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
-    system, sub, n = kin.system, kin.sub, kin.n
-    bodies = system.bodies
-    zero = sp.zeros(3, 1)
-    X = {b: _transform(kin, b) for b in bodies}
-    children = {b: [c for c in bodies if c.parent is b] for b in bodies}
+class Recursion:
+    """The bodies' transforms (R, t), motion subspaces S and joint biases in body axes, and the two
+    recursions over them."""
 
-    def up(b, lin, ang):
+    def __init__(self, kin: Kinematics) -> None:
+        self.kin, self.sub, self.n = kin, kin.sub, kin.n
+        bodies = self.bodies = kin.system.bodies
+        self.X = {b: _transform(kin, b) for b in bodies}
+        self.children = {b: [c for c in bodies if c.parent is b] for b in bodies}
+        self.S = {b: [(i, self.sub.add_matrix(v), self.sub.add_matrix(w))
+                      for i, (v, w) in zip(b.speed_indices, b.joint.subspace())] for b in bodies}
+        self.biases = {b: tuple(self.sub.add_matrix(x) for x in b.joint.bias()) for b in bodies if self.S[b]}
+
+    def up(self, b, lin: sp.Matrix, ang: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
         """A force (lin, ang) in body b's frame, expressed in its parent's frame."""
-        R, t = X[b]
-        lin = sub.add_matrix(matmul(R, lin))
-        return lin, sub.add_matrix(matmul(R, ang) + cross(t, lin))
+        R, t = self.X[b]
+        lin = self.sub.add_matrix(matmul(R, lin))
+        return lin, self.sub.add_matrix(matmul(R, ang) + cross(t, lin))
 
-    S = {b: [(i, sub.add_matrix(v), sub.add_matrix(w)) for i, (v, w) in zip(b.speed_indices, b.joint.subspace())]
-         for b in bodies}
-    biases = {b: tuple(sub.add_matrix(x) for x in b.joint.bias()) for b in bodies if S[b]}
+    def _motion(self, b, parent: tuple, u, ud) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+        """(Ω, α, a) of body b from its parent's (module formulas)."""
+        sub, zero = self.sub, sp.zeros(3, 1)
+        (R, t), (w_p, al_p, a_p) = self.X[b], parent
+        w = sub.add_matrix(matmul(R.T, w_p))
+        al = matmul(R.T, al_p)
+        a_t = a_p + cross(al_p, t) + cross(w_p, sub.add_matrix(cross(w_p, t)))
+        a = matmul(R.T, sub.add_matrix(a_t))
+        if any(u[i] != 0 for i, _, _ in self.S[b]):
+            v_rel = sum((scale(u[i], v) for i, v, _ in self.S[b]), zero)
+            w_rel = sub.add_matrix(sum((scale(u[i], x) for i, _, x in self.S[b]), zero))
+            a_rel, al_rel = self.biases[b]
+            al = al + cross(w, w_rel) + al_rel
+            a = a + scale(2, cross(w, sub.add_matrix(v_rel))) + a_rel
+            w = w + w_rel
+        al = al + sum((scale(ud[i], x) for i, _, x in self.S[b]), zero)
+        a = a + sum((scale(ud[i], v) for i, v, _ in self.S[b]), zero)
+        return sub.add_matrix(w), sub.add_matrix(al), sub.add_matrix(a)
 
-    def rnea(u, gravity) -> sp.Matrix:
-        moving = any(x != 0 for x in u)
-        Omega, alpha, acc, F, N = {}, {}, {}, {}, {}
-        for b in bodies:
-            R, t = X[b]
-            if b.parent is None:
-                w_p, al_p, a_p = zero, zero, -gravity
-            else:
-                w_p, al_p, a_p = Omega[b.parent], alpha[b.parent], acc[b.parent]
-            w, al = matmul(R.T, w_p), matmul(R.T, al_p)
-            a = matmul(R.T, a_p + cross(al_p, t) + cross(w_p, cross(w_p, t)))
-            if moving and S[b]:
-                v_rel = sum((scale(u[i], v) for i, v, _ in S[b]), zero)
-                w_rel = sum((scale(u[i], x) for i, _, x in S[b]), zero)
-                a_rel, al_rel = biases[b]
-                al = al + cross(w, w_rel) + al_rel
-                a = a + scale(2, cross(w, v_rel)) + a_rel
-                w = w + w_rel
-            Omega[b] = w = sub.add_matrix(w)
-            alpha[b] = al = sub.add_matrix(al)
-            acc[b] = a = sub.add_matrix(a)
+    def rnea(self, u, ud, gravity: sp.Matrix, loads: bool = False) -> sp.Matrix:
+        """τ_k = v_k · F_i + ω_k · N_i of the pass with speeds u, accelerations ud and gravity g⃗; with
+        `loads` less their generalized forces: each force F at r and torque T on body i (world axes,
+        `applied_wrenches`) taken off its balance, f_i −= Rᵀ F, n_i −= r × Rᵀ F + Rᵀ T (R the body's rotation
+        in the world, r in body axes)."""
+        sub, zero = self.sub, sp.zeros(3, 1)
+        motion, F, N = {}, {}, {}
+        for b in self.bodies:
+            parent = (zero, zero, -gravity) if b.parent is None else motion[b.parent]
+            motion[b] = w, al, a = self._motion(b, parent, u, ud)
             c = b.com
             a_S = a + cross(al, c) + cross(w, sub.add_matrix(cross(w, c)))
             f = sub.add_matrix(scale(b.mass, a_S))
             N[b] = matmul(b.inertia, al) + cross(w, sub.add_matrix(matmul(b.inertia, w))) + cross(c, f)
             F[b] = f
-        tau = sp.zeros(n, 1)
-        for b in reversed(bodies):
-            for c in children[b]:
-                lin, ang = up(c, F[c], N[c])
+        for point, F_ext, T_ext in (w for load in self.kin.system.loads if loads
+                                    for w in applied_wrenches(self.kin, load)):
+            if point.body is not None:  # a force on the world moves nothing
+                R = self.kin.R[point.body]
+                f = sub.add_matrix(matmul(R.T, sub.add_matrix(F_ext)))
+                F[point.body] = F[point.body] - f
+                N[point.body] = N[point.body] - cross(point.offset, f) - matmul(R.T, sub.add_matrix(T_ext))
+        tau = sp.zeros(self.n, 1)
+        for b in reversed(self.bodies):
+            for c in self.children[b]:
+                lin, ang = self.up(c, F[c], N[c])
                 F[b], N[b] = F[b] + lin, N[b] + ang
             F[b], N[b] = sub.add_matrix(F[b]), sub.add_matrix(N[b])
-            for i, v, w in S[b]:
+            for i, v, w in self.S[b]:
                 tau[i] += dot(v, F[b]) + dot(w, N[b])
         return tau
 
-    def crba() -> sp.Matrix:
-        # CRBA: composite inertias from the leaves, then each joint's column up to the root
+    def crba(self) -> sp.Matrix:
+        """M: composite inertias from the leaves, then each joint's column up to the root."""
+        sub, S = self.sub, self.S
         comp = {}
-        for b in reversed(bodies):
+        for b in reversed(self.bodies):
             m, c = b.mass, b.com
             h = scale(m, c)
             I_O = b.inertia + scale(m, dot(c, c) * sp.eye(3) - matmul(c, c.T))
-            for ch in children[b]:
+            for ch in self.children[b]:
                 m_c, h_c, I_c = comp[ch]
-                R, t = X[ch]
+                R, t = self.X[ch]
                 Rh = sub.add_matrix(matmul(R, h_c))
                 m = m + m_c
                 h = h + Rh + scale(m_c, t)
                 I_O = (I_O + matmul(matmul(R, I_c), R.T) + scale(m_c, dot(t, t) * sp.eye(3) - matmul(t, t.T))
                        + 2 * dot(t, Rh) * sp.eye(3) - matmul(t, Rh.T) - matmul(Rh, t.T))
             comp[b] = (sub.add(m), sub.add_matrix(h), _symmetric(sub, I_O))
-        M = sp.zeros(n, n)
-        for b in bodies:
+        M = sp.zeros(self.n, self.n)
+        for b in self.bodies:
             m, h, I_O = comp[b]
             for j, v, w in S[b]:  # the momentum of the composite moved by u_j = 1: (m v + ω × h, I_O ω + h × v)
                 lin = sub.add_matrix(scale(m, v) + cross(w, h))
@@ -110,22 +132,36 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
                         if k is not b or i != j:  # a mimic below its driver meets it twice on M_jj
                             M[j, i] += M_ij
                     if k.parent is not None:
-                        lin, ang = up(k, lin, ang)
+                        lin, ang = self.up(k, lin, ang)
                     k = k.parent
-        add_armature(kin, M)
+        add_armature(self.kin, M)
         return M
 
+
+def inverse_dynamics(kin: Kinematics, loads: bool = False) -> sp.Matrix:
+    """τ = M u̇ + b + g in one RNEA pass with u, u̇ (`System.ud`) and gravity, plus I_a u̇ of the
+    armature (as Pinocchio's rnea); with `loads` τ − τ_loads (the loads as external forces)."""
+    system = kin.system
+    tau = Recursion(kin).rnea(kin.u, list(system.ud), system.gravity, loads)
+    for i, inertia in armature(kin):
+        tau[i] += inertia * system.ud[i]
+    return tau
+
+
+def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
+    system, n = kin.system, kin.n
+    recursion, zero, rest = Recursion(kin), sp.zeros(3, 1), [0] * n
     u = sp.Matrix(kin.u)
     compact = {"U": potential_energy(kin)}  # only what is asked: g alone needs one gravity pass
     if "M" in quantities:
-        M = compact["M"] = crba()
+        M = compact["M"] = recursion.crba()
         compact["T"] = dot(u, matmul(M, u)) / 2
     if "b" in quantities:
-        compact["b"] = rnea(kin.u, zero)
+        compact["b"] = recursion.rnea(kin.u, rest, zero)
     if "g" in quantities:
-        compact["g"] = rnea([0] * n, system.gravity)
+        compact["g"] = recursion.rnea(rest, rest, system.gravity)
     if "b" in quantities and "g" in quantities:  # Pinocchio's nonLinearEffects: both in one pass
-        compact["nle"] = rnea(kin.u, system.gravity)
+        compact["nle"] = recursion.rnea(kin.u, rest, system.gravity)
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "recursive", compact)
