@@ -9,6 +9,8 @@ coordinates q0 ⊕ δ of the directions that the closures r(q) = 0 fix are solve
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from scipy.linalg import qr
 
@@ -34,13 +36,12 @@ class EquationsModel:
         system = self.system = eom.system
         nle = eom.compact["nle"] if "nle" in eom.compact else eom.compact["b"] + eom.compact["g"]
         exprs = {"M": (eom.compact["M"], ()), "nle": (nle, {"u"}), "tau": (eom.tau_compact, {"u"})}
-        self.f = None
+        self.f = codegen(eom)  # the forward dynamics' derivatives; which rows carry forces (`Reduced`)
         if system.constraint_rows():
             J, Jdot_u = eom.kinematics.constraint_jacobian()
             exprs.update(J_c=(J, ()), Jdot_c_u=(Jdot_u, {"u"}))
             if system.closure_rows():
                 exprs["closure"] = (eom.kinematics.closure_residual(), ())
-            self.f = codegen(eom)  # which rows carry forces (`Reduced`)
         self.parameters = Parameters(system.parameters)
         self.pieces = Pieces(
             eom.subexpressions, system, {**exprs, **motor_pieces(system)}, self.parameters, []
@@ -52,7 +53,7 @@ class EquationsModel:
     def case(self, independent) -> EquationsCase:
         """The pipeline for these independent speeds: every speed, or (contacts, loops, rolling disks) those
         named."""
-        if self.f is None:
+        if not self.f.constraint_rows:
             if independent is not None:
                 raise ModelError(
                     "linearize: independent: the system has no contacts, loops or rolling disks; "
@@ -111,8 +112,11 @@ class EquationsCase:
     ) -> tuple[Dual, Dual, Dual]:
         """(u, u, u̇_i): the speeds (twice: they are the equations' speeds), the independent ones' rates."""
         pieces, nv = self.pieces, len(self.model.every)
+        S = Dual(algebra.array(self.model.system.S.T.tolist()).reshape(nv, -1))
+        if self.reduced is None and not algebra.symbolic:
+            return speeds, speeds, self._forward(point, speeds, efforts, S)
         M = pieces.dual("M", point)
-        tau_a = Dual(algebra.array(self.model.system.S.T.tolist()).reshape(nv, -1)) @ efforts
+        tau_a = S @ efforts
         if self.reduced is None:
             h = pieces.dual("tau", point, speeds) - pieces.dual("nle", point, speeds) + tau_a
             return speeds, speeds, solve(algebra, M, h, "the mass matrix M")
@@ -128,3 +132,18 @@ class EquationsCase:
         )
         h = pieces.dual("tau", point, u) - pieces.dual("nle", point, u) + tau_a
         return u, u, solve(algebra, R.T @ M @ R, R.T @ (h - M @ s), "the reduced mass matrix Rᵀ M R")
+
+    def _forward(self, point: Point, speeds: Dual, efforts: Dual, S: Dual) -> Dual:
+        """u̇ = M⁻¹ (τ + Sᵀ τ_a − b − g) with its derivatives along q, u and τ_a from the generated forward
+        dynamics derivatives (`forward_dynamics_derivatives`), along the parameters from the pieces."""
+        tau = (S @ efforts).value[:, 0]
+        Fq, Fu, Ftau = self.model.f.forward_dynamics_derivatives(
+            point.q, speeds.value[:, 0], tau, point.values
+        )
+        along = replace(point, tangents={"q": None, "p": point.tangents["p"]})
+        u, algebra = Dual(speeds.value), point.algebra
+        h = self.pieces.dual("tau", along, u) - self.pieces.dual("nle", along, u) + S @ Dual(efforts.value)
+        ud = solve(algebra, self.pieces.dual("M", along), h, "the mass matrix M")
+        d = point.tangents["q"] @ Fq.T + speeds.tangent[:, :, 0] @ Fu.T
+        d += efforts.tangent[:, :, 0] @ (Ftau @ S.value).T
+        return Dual(ud.value, d[:, :, None] if ud.tangent is None else ud.tangent + d[:, :, None])
