@@ -38,7 +38,8 @@ def cart_pole(m_c: float = VALUES["m_c"], m_p: float = VALUES["m_p"], l: float =
 def by_hand(m_c: float = VALUES["m_c"], m_p: float = VALUES["m_p"], l: float = VALUES["l"],
             g: float = VALUES["g"]) -> tuple[np.ndarray, np.ndarray]:
     """A, B of the module's docstring."""
-    A = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [0, m_p * g / m_c, 0, 0], [0, (m_c + m_p) * g / (m_c * l), 0, 0]])
+    A = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [0, m_p * g / m_c, 0, 0],
+                  [0, (m_c + m_p) * g / (m_c * l), 0, 0]])
     return A, np.array([[0], [0], [1 / m_c], [1 / (m_c * l)]])
 
 

@@ -142,7 +142,8 @@ def close(actual, expected, rtol: float, what: str) -> None:
     actual, expected = np.asarray(actual, float), np.asarray(expected, float)
     assert actual.shape == expected.shape, f"{what}: shape {actual.shape} != {expected.shape}"
     assert np.all(np.isfinite(actual)), f"{what}: not finite: {actual}"
-    np.testing.assert_allclose(actual, expected, rtol=0, atol=rtol * max(1.0, np.abs(expected).max()), err_msg=what)
+    atol = rtol * max(1.0, np.abs(expected).max())
+    np.testing.assert_allclose(actual, expected, rtol=0, atol=atol, err_msg=what)
 
 
 # every joint type but the free flyer, for a chain of three bodies (`joint_chain`)

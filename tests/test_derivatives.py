@@ -10,6 +10,8 @@ import importlib.util
 import subprocess
 import warnings
 
+from pathlib import Path
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -17,6 +19,7 @@ from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 import eomgen as eg
+from test_outputs import load as load_module
 import strategies as S
 from models import JOINTS, close, joint_chain
 from eomgen.model import pinocchio_configuration
@@ -423,6 +426,11 @@ def test_bad_calls_are_refused():
             eg.ModelError, match="generated for EquationsOfMotion .*not for Kane's equations"
         ):
             call(q[:3], u[:3], ud[:3])
+    looped = load_module(Path(__file__).parents[1] / "examples" / "four_bar.py").four_bar()
+    for backend in ("numpy", "c"):  # u̇ of a loop is the constrained dynamics': refused, not unconstrained
+        h = eg.codegen(eg.derive(looped, method="recursive"), backend=backend)
+        with pytest.raises(eg.ModelError, match=r"constraint rows \['.*'\].*eg.linearize"):
+            h.forward_dynamics_derivatives(np.zeros(h.nq), np.zeros(h.nv))
     limp = eg.System()  # a massless link on a joint: M is singular
     limp.add_body("a", joint=eg.Revolute("r0"), mass=1.0, com=(0.3, 0, 0), inertia=np.eye(3) * 0.1)
     limp.add_body("b", parent="a", joint=eg.Revolute("r1", axis=(1, 0, 0)), mass=0.0)

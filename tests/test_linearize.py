@@ -305,3 +305,22 @@ def test_bad_input():
         L.select(["theta"])
     with pytest.raises(eg.ModelError, match=r"Linearization: unknown inputs \['F'\]"):
         L.select(["phi"], inputs=["F"])
+
+
+@pytest.mark.parametrize("lname", ["L", "u", "q", "w"])
+def test_parameter_named_like_a_seed_family(lname):
+    """A parameter named q, u or w is its own direction: B of a damped pendulum (point mass m at l) by hand,
+    θ̈ = −(g/l) sin θ + (τ − c θ̇)/(m l²)."""
+    l, c = sp.Symbol(lname, positive=True), sp.Symbol("C", nonnegative=True)
+    system = eg.System(gravity=(0, -9.81, 0))
+    system.add_body("bob", joint=eg.Revolute("th", axis=(0, 0, 1)), mass=2.0, com=(0, -l, 0))
+    system.add_torque("bob", (0, 0, -c * system.u[0]), name="friction")
+    eom = eg.derive(system, method="recursive")
+    m, g, th0, w0, tau0, lv, cv = 2.0, 9.81, 0.4, 1.3, 0.5, 0.8, 0.3
+    for _ in range(2):  # the memo of the first call must not spoil the second
+        L = eg.linearize(eom, ([th0], [w0], [tau0]), inputs=["tau_th", lname], params={lname: lv, "C": cv})
+        A = np.array([[0, 1], [-(g / lv) * np.cos(th0), -cv / (m * lv**2)]])
+        B = np.array([[0, 0], [1 / (m * lv**2),
+                               (g / lv**2) * np.sin(th0) - 2 * (tau0 - cv * w0) / (m * lv**3)]])
+        np.testing.assert_allclose(L.A, A, atol=1e-12)
+        np.testing.assert_allclose(L.B, B, atol=1e-12)

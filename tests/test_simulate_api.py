@@ -94,3 +94,15 @@ def test_refused():
         eg.simulate(kane, ([0, 0, 0, 0], [0.3, 2.0, 0]), (0, 1))
     with pytest.raises(TypeError, match="tau_a"):
         eg.simulate(f, ([0.1], [0]), (0, 1), tau_a=[0.0])  # the old name: one API, tau or controller
+
+
+def test_kane_with_motors_refused_in_simulation():
+    """Kane's rhs has no circuit: a DC motor's current would stay a constant, so it is refused by name."""
+    system = pendulum()
+    system.add_motor(system.bodies[0], resistance=1.0, inductance=0.01, torque_constant=0.1,
+                     rotor_inertia=0.01, voltage=6.0)
+    kane = eg.codegen(eg.kane(system))
+    for call in (lambda: kane.rhs(0.0, np.zeros(2)), lambda: kane.energy(np.zeros(2)),
+                 lambda: eg.simulate(kane, ([0.1], [0.0]), (0, 1))):
+        with pytest.raises(eg.ModelError, match=r"DC motors \['i_.*'\]"):
+            call()

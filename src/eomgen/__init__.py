@@ -28,6 +28,7 @@ __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed
            "Kinematics", "Linearization", "ModelError", "Placement", "Planar", "Prismatic", "Revolute",
            "Solution", "Spherical", "Step",
            "System", "Translation", "Universal", "assemble", "codegen", "derive", "from_dh", "from_mjcf",
-           "from_urdf", "integrate", "kane", "linearize", "project", "quiet", "random_states", "reduce", "robots",
+           "from_urdf", "integrate", "kane", "linearize", "project", "quiet", "random_states", "reduce",
+           "robots",
            "difference", "simplified", "simulate", "plot", "animate", "solution",
            "tradeoff", "verify", "write_c", "write_module"]

@@ -105,6 +105,11 @@ class EquationsOfMotion(ClosedForms):
         return sum((self.compact[f"tau:{name}"] for name in self.load_names), sp.zeros(len(self.u), 1))
 
     @property
+    def nle_compact(self) -> sp.Matrix:
+        """b + g in intermediates (the one-pass "nle" where derived)."""
+        return self.compact["nle"] if "nle" in self.compact else self.compact["b"] + self.compact["g"]
+
+    @property
     def tau(self) -> sp.Matrix:
         """Generalized forces of all loads: forces, torques, actuators, springs, dampers."""
         return self.subexpressions.inline(self.tau_compact)

@@ -96,9 +96,7 @@ def forward_parts(eom) -> sp.Matrix:
     """[M | τ_loads − b − g] (n × (n + 1)), M's lower triangle only (what the C factorisation reads)."""
     n = len(eom.u)
     M = eom.compact["M"]
-    h = eom.tau_compact - (
-        eom.compact["nle"] if "nle" in eom.compact else eom.compact["b"] + eom.compact["g"]
-    )
+    h = eom.tau_compact - eom.nle_compact
     return sp.Matrix(n, n, lambda i, j: M[i, j] if j <= i else 0).row_join(h)
 
 
@@ -185,7 +183,13 @@ class DerivativeFunctions:
         )
 
     def _forward_checks(self, q, params) -> None:
-        """Refuse equations without M, b, g; warn near an Euler-angle singularity (one state)."""
+        """Refuse equations without M, b, g and systems with constraints (their u̇ is the constrained
+        dynamics'); warn near an Euler-angle singularity (one state)."""
+        rows = self.eom.system.constraint_rows()
+        if rows:
+            raise ModelError(f"forward_dynamics_derivatives: the system has constraint rows {rows[:6]}, "
+                             "whose forces these derivatives of M⁻¹ (τ − b − g) leave out; linearize the "
+                             "constrained dynamics with eg.linearize(eom, op_point, independent=[...])")
         if not forward_dynamics(self.eom):
             raise ModelError(
                 f"forward_dynamics_derivatives needs M, b and g; derived: {list(self.eom.quantities)} "

@@ -163,9 +163,19 @@ class NumericKane(KaneRefusals):
         """The size of the state x = [q, w_ind]."""
         return self.nq + self.nv
 
+    def _without_motors(self) -> None:
+        """Refuse DC motors: their currents would be constants here, not states driven by the voltages."""
+        motors = self.kane.system.motors
+        if motors:
+            raise ModelError(f"Kane's rhs, energy and power do not integrate the circuits of the DC motors "
+                             f"{[str(m.current) for m in motors]}: simulate the equations of motion "
+                             "(eg.derive), whose rhs has x = [q, u, i]; eg.linearize takes Kane's with "
+                             "motors")
+
     def rhs(self, t, x, tau=None, params=None) -> np.ndarray:
         """d/dt [q, w_ind] = [q̇(q, u), M̃⁻¹ (f̃ + Pᵀ Sᵀ τ_a)], τ_a = `tau` (None, one value per actuated
         joint, or a function (t, q, w_ind))."""
+        self._without_motors()
         q, w = split(x, [self.nq, self.nv], "q, w_ind", batch=True)
         u, M, f = self._dynamics(q, w, params, efforts(tau, t, q, w))
         return np.concatenate([self._rates(q, u, params), np.linalg.solve(M, f[..., None])[..., 0]], -1)
@@ -173,12 +183,14 @@ class NumericKane(KaneRefusals):
     def power(self, t, x, tau=None, params=None) -> np.ndarray:
         """Ẇ = uᵀ (Sᵀ τ_a + τ_nc), u the joint speeds: the power of the actuators and of the loads but
         springs (`codegen.rhs`)."""
+        self._without_motors()
         q, w = split(x, [self.nq, self.nv], "q, w_ind", batch=True)
         u = self.joint_speeds(q, w, params)
         return power(u, self._eval("tau_nc", q, u, params=params)[..., 0], efforts(tau, t, q, w), self.S)
 
     def energy(self, x, params=None) -> np.ndarray:
         """E = T + U at the joint speeds u of (q, w_ind)."""
+        self._without_motors()
         q, w = split(x, [self.nq, self.nv], "q, w_ind", batch=True)
         return self._eval("energy", q, self.joint_speeds(q, w, params), params=params)[..., 0].sum(-1)
 

@@ -3,8 +3,8 @@
 A generated function `f(q, u, ud, p, out, sin, cos, sqrt, m)` evaluates, in order, the intermediates its
 outputs need and writes the outputs into `out` (shape (rows, cols) + batch), each output as soon as the
 intermediates it reads are known (short lives: faster to compile and to run). A long C function is
-written as parts of `SEGMENT` statements, called in turn (see `FunctionWriter._parts`). It runs with math's sin,
-cos, sqrt and the runtime's `_Scalar` as `m` (one state, Python floats: fast per call), with numpy's and
+written as parts of `SEGMENT` statements, called in turn (see `FunctionWriter._parts`). It runs with
+math's sin, cos, sqrt and the runtime's `_Scalar` as `m` (one state, Python floats: fast per call), with numpy's and
 the numpy module (states along the last axis: batched) or with mpmath's (the reference); `m` holds the
 other functions under numpy's names (m.tan, m.arctan2, m.where, ...). Every branch of a Piecewise is
 evaluated: where math raises (a pole, off the domain), the runtime evaluates the state again in numpy.

@@ -85,19 +85,7 @@ class StateFunctions:
     def _circuit(self, q, u, params) -> np.ndarray:
         """Per motor [U − k N q̇, R, L]."""
         motors = self.eom.system.motors
-        self._function(
-            "motor",
-            lambda: sp.Matrix(
-                [
-                    [
-                        m.voltage - m.torque_constant * m.gear_ratio * self.eom.u[m.body.index],
-                        m.resistance,
-                        m.inductance,
-                    ]
-                    for m in motors
-                ]
-            ),
-        )
+        self._function("motor", lambda: sp.Matrix([m.circuit(self.eom.u) for m in motors]))
         return self.call("motor", q, u, params=params)
 
     def rhs(self, t, x, tau=None, params=None, baumgarte: tuple[float, float] | None = None) -> np.ndarray:

@@ -34,8 +34,7 @@ class EquationsModel:
                 f"linearize: the equations have only {list(eom.quantities)}: derive M, b and g"
             )
         system = self.system = eom.system
-        nle = eom.compact["nle"] if "nle" in eom.compact else eom.compact["b"] + eom.compact["g"]
-        exprs = {"M": (eom.compact["M"], ()), "nle": (nle, {"u"}), "tau": (eom.tau_compact, {"u"})}
+        exprs = {"M": (eom.compact["M"], ()), "nle": (eom.nle_compact, {"u"}), "tau": (eom.tau_compact, {"u"})}
         self.f = codegen(eom)  # the forward dynamics' derivatives; which rows carry forces (`Reduced`)
         if system.constraint_rows():
             J, Jdot_u = eom.kinematics.constraint_jacobian()

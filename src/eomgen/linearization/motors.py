@@ -15,21 +15,8 @@ def motor_pieces(system: System) -> dict:
     """{"motor": ([a, b] per motor, in u)}, or nothing without motors."""
     if not system.motors:
         return {}
-    u = system.u
-    return {
-        "motor": (
-            sp.Matrix(
-                [
-                    [
-                        (m.voltage - m.torque_constant * m.gear_ratio * u[m.body.index]) / m.inductance,
-                        m.resistance / m.inductance,
-                    ]
-                    for m in system.motors
-                ]
-            ),
-            {"u"},
-        )
-    }
+    circuits = [m.circuit(system.u) for m in system.motors]
+    return {"motor": (sp.Matrix([[drive / L, R / L] for drive, R, L in circuits]), {"u"})}
 
 
 def current_rates(pieces: Pieces, point: Point, u: Dual, currents: Dual) -> Dual:

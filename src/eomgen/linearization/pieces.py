@@ -69,7 +69,7 @@ class Pieces:
         if family != "p":
             return jacobian(self.sub, column, self.seeds[family], ("linearize", family))
         return sp.Matrix.hstack(
-            *(jacobian(self.sub, column, [{p: 1}], ("linearize", str(p))) for p in chosen),
+            *(jacobian(self.sub, column, [{p: 1}], ("linearize", "p", p)) for p in chosen),
             sp.zeros(column.rows, 0),
         )
 

@@ -92,3 +92,8 @@ class Motor:
     rotor_inertia: sp.Expr
     friction: sp.Expr
     gear_ratio: sp.Expr
+
+    def circuit(self, u) -> list[sp.Expr]:
+        """[U − k N q̇, R, L] of L di/dt = U − R i − k N q̇ (u: the system's speeds)."""
+        return [self.voltage - self.torque_constant * self.gear_ratio * u[self.body.index], self.resistance,
+                self.inductance]
