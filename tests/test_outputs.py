@@ -246,7 +246,7 @@ def test_header_documents_and_cannot_be_injected(tmp_path):
                  "#define CP_NP 6", "zeroed by the caller"]:
         assert line in header, line
     g_doc = header[header.index("gravity terms"):header.index("void cp_g(")]
-    assert "out: 2 x 1, row-major; reads q[0, 1]; p[1, 3, 5]" in g_doc  # g, l, m_p
+    assert "out: 2 x 1, row-major; reads q[1]; p[1, 3, 5]" in g_doc  # g, l, m_p; not the cart's x
     subprocess.run(["cc", "-Wall", "-Werror", "-c", str(c), "-o", str(tmp_path / "cp.o")], check=True)
 
 

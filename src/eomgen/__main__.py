@@ -51,7 +51,8 @@ def main(argv: list[str] | None = None) -> int:
     sub = ap.add_subparsers(dest="command", required=True)
     v = sub.add_parser("verify", help="derive, generate and compare with Pinocchio")
     v.add_argument("robot", help="example-robot-data name (e.g. ur5) or URDF path")
-    v.add_argument("--method", default="projected_newton_euler", choices=sorted(METHODS))
+    v.add_argument("--method", default=None, choices=sorted(METHODS),
+                   help="default: the cheapest that applies")
     v.add_argument("--states", type=int, default=20)
     v.add_argument("--backend", default="numpy", choices=["numpy", "c"])
     v.add_argument("--frames", nargs="*", help="frames whose Jacobians to check (default: the end frames)")

@@ -158,10 +158,10 @@ class Report:
         return "\n".join(lines)
 
 
-def verify(system: System, method: str = "projected_newton_euler", backend: str = "numpy", states: int = 20,
+def verify(system: System, method: str | None = None, backend: str = "numpy", states: int = 20,
            frames: list[str] | None = None, seed: int = 0) -> Report:
     """Derive, generate and compare M, b, g and the Jacobians and J̇u of `frames` (default: the end
-    frames) with Pinocchio at `states` random states."""
+    frames) with Pinocchio at `states` random states (method: `derive`'s, default the cheapest)."""
     if not isinstance(system, System):
         raise ModelError(f"verify: expected a System (it derives the equations itself), "
                          f"got {type(system).__name__}")
@@ -175,7 +175,8 @@ def verify(system: System, method: str = "projected_newton_euler", backend: str 
     t1 = time.perf_counter()
     f = codegen(eom, backend=backend)
     t2 = time.perf_counter()
-    report = Report(getattr(system, "name", None) or getattr(system, "source", "system"), method, backend,
+    name = getattr(system, "name", None) or getattr(system, "source", "system")
+    report = Report(name, eom.method, backend,
                     system.nq, states, t1 - t0, t2 - t1)
     q, u, _ = random_states(system, states, np.random.default_rng(seed))
     LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED

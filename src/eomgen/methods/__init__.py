@@ -18,11 +18,12 @@ METHODS = {
 }
 
 
-def derive(system: System, method: str = "projected_newton_euler", quantities=None,
+def derive(system: System, method: str | None = None, quantities=None,
            frames=None) -> EquationsOfMotion:
-    """Equations of motion M u̇ + b + g = τ + Sᵀ τ_a of `system` by `method`
-    ("projected_newton_euler" (default), "lagrange", "free_cut", or "recursive": the body-frame
-    composite-rigid-body and recursive Newton-Euler algorithms, which give the cheapest code).
+    """Equations of motion M u̇ + b + g = τ + Sᵀ τ_a of `system` by `method`: "recursive" (the
+    body-frame composite-rigid-body and recursive Newton-Euler algorithms, which give the cheapest
+    code), or the lecture's "projected_newton_euler", "lagrange", "free_cut". The default (None) is the
+    method with the cheapest code that applies: "recursive", or "lagrange" with flexible links.
 
     Model only what a scene requires: `quantities`, a subset of ("M", "b", "g") (default all), derives
     only those, e.g. ("g",) for gravity compensation (() for none); `frames`, frame or body names whose
@@ -30,6 +31,8 @@ def derive(system: System, method: str = "projected_newton_euler", quantities=No
     frames of a scene. The other frames' Jacobians are still derived when first asked for."""
     if not isinstance(system, System):
         raise TypeError(f"derive expects an eomgen.System, got {type(system).__name__}")
+    if method is None:
+        method = "lagrange" if any(isinstance(j, FlexibleLink) for j in system.joints) else "recursive"
     if method not in METHODS:
         raise ModelError(f"unknown method {method!r}; choose one of {sorted(METHODS)}")
     if not system.bodies:
