@@ -141,14 +141,13 @@ def forward_dynamics(eom) -> bool:
     return {"M", "b", "g"} <= set(eom.compact)
 
 
-def module_api(eom) -> list[str]:
+def module_api(eom, nle: str) -> list[str]:
     """The texts of inverse_dynamics_derivatives and (with M, b, g) forward_dynamics_derivatives, with the
-    runtime."""
+    runtime; `nle`: the module's text for b + g."""
     if not available(eom):
         return []
     if not forward_dynamics(eom):
         return [MODULE_API]
-    nle = "nle(q, u, params)" if "nle" in eom.compact else "(b(q, u, params) + g(q, params))"
     jacobian = "_forward_dynamics_jacobian" if eom.load_names else "_inverse_dynamics_jacobian"
     return [MODULE_API, RUNTIME, MODULE_FORWARD.format(nle=nle, jacobian=jacobian)]
 

@@ -13,7 +13,7 @@ from .. import __version__, centroidal
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from . import QUANTITIES, NumericEoM, equations, quantities
-from .derivative_functions import module_api
+from .derivative_functions import forward_dynamics, module_api
 from .derivative_functions import outputs as derivatives
 from .kinematic_functions import placement
 from .parameters import RUNTIME as PARAMETER_RUNTIME
@@ -181,11 +181,11 @@ def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title
     parts += [_api(key, f.functions[key].shape, f.functions[key].params_used) for key in keys]
     parts += [_api(out.key, f.functions[out.key].shape, f.functions[out.key].params_used, out.name,
                    f"{out.what} ({ROWS[out.key]})" if out.rows else out.what, out.args) for out in extra]
-    parts += [_JACOBIAN_API, _PLACEMENT_API, *module_api(eom)]
+    nle = "nle(q, u, params)" if "nle" in keys else "(b(q, u, params) + g(q, params))"
+    parts += [_JACOBIAN_API, _PLACEMENT_API, *module_api(eom, nle)]
     if any(out.key == "A_G" for out in extra):
         parts.append(_CENTROIDAL_MOMENTUM)
-    if {"M", "b", "g"} <= set(keys):
-        nle = "nle(q, u, params)" if "nle" in keys else "(b(q, u, params) + g(q, params))"
+    if forward_dynamics(eom):
         parts.append(_FORWARD.format(nle=nle))
     return "\n\n".join(p.strip("\n") for p in parts) + "\n"
 

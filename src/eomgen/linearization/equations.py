@@ -15,6 +15,7 @@ import numpy as np
 from scipy.linalg import qr
 
 from ..codegen import codegen
+from ..codegen.derivative_functions import forward_dynamics
 from ..codegen.parameters import Parameters
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
@@ -29,7 +30,7 @@ class EquationsModel:
     """The pieces M, b + g, τ (and J_c, J̇_c u, r) of an `EquationsOfMotion` and its pipeline."""
 
     def __init__(self, eom: EquationsOfMotion) -> None:
-        if "M" not in eom.compact or not ("nle" in eom.compact or {"b", "g"} <= set(eom.compact)):
+        if not forward_dynamics(eom):
             raise ModelError(
                 f"linearize: the equations have only {list(eom.quantities)}: derive M, b and g"
             )
