@@ -1,11 +1,11 @@
 """The derivatives of the dynamics per call beside Pinocchio's, on ur5 and talos.
 
 Per robot: the inverse dynamics' derivatives (∂τ/∂q, ∂τ/∂u) and the forward dynamics' derivatives
-(∂u̇/∂q, ∂u̇/∂u, ∂u̇/∂τ), timed as eomgen's C from Python (the compiled backend), eomgen's C in a C loop
-(write_c's code with a timing harness, cc -O2 as the extension), Pinocchio from Python
-(computeRNEADerivatives, computeABADerivatives) and Pinocchio in a C++ loop (the pin wheel's headers and
-library, Eigen's headers from the cmeel-eigen package; left out with a note when they are missing or
---no-cpp). Each time is the best of 7 runs of the mean over 100 random states. Also the operations of the
+(∂u̇/∂q, ∂u̇/∂u, ∂u̇/∂τ), timed as eomgen's C from Python (the compiled backend) beside Pinocchio from Python
+(computeRNEADerivatives, computeABADerivatives), each the best of 7 runs of the mean over 100 random
+states, and in loops without Python: write_c's code in a C loop beside Pinocchio in a C++ loop
+(benchmarks/kernels.py's harnesses and flags; Pinocchio's left out with a note when Eigen's headers are
+missing or --no-cpp). Also the operations of the
 generated functions and the time to derive and compile them. Prints a table and writes JSON.
 
 Run: python benchmarks/derivatives.py [names ...] [--no-cpp] [--out ...]"""
@@ -29,103 +29,11 @@ from eomgen.model import pinocchio_configuration
 from eomgen.verify import to_pinocchio
 
 sys.path.insert(0, str(Path(__file__).parent))
+import kernels  # noqa: E402
 import results_io  # noqa: E402
 
 STATES, REPEAT = 100, 7
-
-C_LOOP = r"""#include <stdio.h>
-#include <string.h>
-#include <time.h>
-#include "eom.h"
-#define N @states@
-
-static double q[N][EOM_NQ], u[N][EOM_NV], ud[N][EOM_NV], p[EOM_NP + 1];
-static double D[2 * EOM_NV * EOM_NV], F[3 * EOM_NV * EOM_NV];
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return t.tv_sec * 1e6 + t.tv_nsec * 1e-3;
-}
-
-int main(void)
-{
-    for (int k = 0; k < N; k++) {
-        for (int i = 0; i < EOM_NQ; i++) if (scanf("%lf", &q[k][i]) != 1) return 1;
-        for (int i = 0; i < EOM_NV; i++) if (scanf("%lf", &u[k][i]) != 1) return 1;
-        for (int i = 0; i < EOM_NV; i++) if (scanf("%lf", &ud[k][i]) != 1) return 1;
-    }
-    double best_id = 1e300, best_fd = 1e300, sum = 0.0;
-    for (int r = 0; r < @repeat@; r++) {
-        double t0 = now();
-        for (int k = 0; k < N; k++) {
-            memset(D, 0, sizeof D);
-            eom_ID_derivatives(q[k], u[k], ud[k], p, D);
-            sum += D[k % (2 * EOM_NV * EOM_NV)];
-        }
-        double t1 = now();
-        for (int k = 0; k < N; k++) {
-            eom_FD_derivatives(q[k], u[k], ud[k], p, F);
-            sum += F[k % (3 * EOM_NV * EOM_NV)];
-        }
-        double t2 = now();
-        best_id = (t1 - t0) / N < best_id ? (t1 - t0) / N : best_id;
-        best_fd = (t2 - t1) / N < best_fd ? (t2 - t1) / N : best_fd;
-    }
-    printf("%.4f %.4f %g\n", best_id, best_fd, sum);
-    return 0;
-}
-"""
-
-CPP_LOOP = r"""#include <pinocchio/multibody.hpp>
-#include <pinocchio/algorithm/rnea-derivatives.hpp>
-#include <pinocchio/algorithm/aba-derivatives.hpp>
-#include <pinocchio/serialization.hpp>
-#include <algorithm>
-#include <chrono>
-#include <cstdio>
-#include <iostream>
-#include <vector>
-
-int main(int, char **argv)
-{
-    pinocchio::Model model;
-    model.loadFromText(argv[1]);
-    pinocchio::Data data(model);
-    std::vector<Eigen::VectorXd> q, v, a;
-    for (int k = 0; k < @states@; ++k) {
-        Eigen::VectorXd x(model.nq), y(model.nv), z(model.nv);
-        for (int i = 0; i < model.nq; ++i) std::cin >> x[i];
-        for (int i = 0; i < model.nv; ++i) std::cin >> y[i];
-        for (int i = 0; i < model.nv; ++i) std::cin >> z[i];
-        q.push_back(x), v.push_back(y), a.push_back(z);
-    }
-    double best_rnea = 1e300, best_aba = 1e300;
-    for (int r = 0; r < @repeat@; ++r) {
-        auto t0 = std::chrono::steady_clock::now();
-        for (std::size_t k = 0; k < q.size(); ++k)
-            pinocchio::computeRNEADerivatives(model, data, q[k], v[k], a[k]);
-        auto t1 = std::chrono::steady_clock::now();
-        for (std::size_t k = 0; k < q.size(); ++k)
-            pinocchio::computeABADerivatives(model, data, q[k], v[k], a[k]);
-        auto t2 = std::chrono::steady_clock::now();
-        double n = q.size();
-        best_rnea = std::min(best_rnea, std::chrono::duration<double, std::micro>(t1 - t0).count() / n);
-        best_aba = std::min(best_aba, std::chrono::duration<double, std::micro>(t2 - t1).count() / n);
-    }
-    std::printf("%.4f %.4f\n", best_rnea, best_aba);
-}
-"""
-PREFIX = next(p for p in Path(pin.__file__).parents if p.name == "cmeel.prefix")  # the pin wheel's files
-# Pinocchio's compile definitions (its CMake package), and the instantiations its library holds
-DEFINES = [
-    "-DBOOST_MPL_LIMIT_LIST_SIZE=30",
-    "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30",
-    "-DBOOST_FUSION_INVOKE_MAX_ARITY=12",
-    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS",
-    "-DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION",
-]
+LOOPED = ["ID_derivatives", "FD_derivatives"]
 
 
 def per_call(fn, calls: list) -> float:
@@ -137,76 +45,7 @@ def per_call(fn, calls: list) -> float:
     )
 
 
-def text(states) -> str:
-    return "".join(" ".join(repr(float(x)) for x in np.concatenate(s)) + "\n" for s in states)
-
-
-def c_loop(eom, folder: Path, states) -> tuple[float, float]:
-    """(ID derivatives, FD derivatives) µs per call from write_c's code in a C loop."""
-    c_path, _ = eg.write_c(eom, folder, name="eom")
-    harness = folder / "loop.c"
-    harness.write_text(C_LOOP.replace("@states@", str(STATES)).replace("@repeat@", str(REPEAT * 5)))
-    exe = folder / "loop"
-    subprocess.run(
-        [
-            "cc",
-            "-O2",
-            "-fno-math-errno",
-            "-ftree-vectorize",
-            f"-I{folder}",
-            str(harness),
-            str(c_path),
-            "-o",
-            str(exe),
-            "-lm",
-        ],
-        check=True,
-    )
-    out = subprocess.run([str(exe)], input=text(states), capture_output=True, text=True, check=True).stdout
-    return tuple(float(x) for x in out.split()[:2])
-
-
-def cpp_loop(model, folder: Path, states) -> tuple[float, float] | str:
-    """(computeRNEADerivatives, computeABADerivatives) µs per call in a C++ loop, or why not."""
-    include = PREFIX / "include"
-    if not (include / "eigen3").is_dir() or not (include / "pinocchio").is_dir():
-        return "no Pinocchio or Eigen headers (pip install cmeel-eigen)"
-    source, exe = folder / "loop.cpp", folder / "loop_cpp"
-    source.write_text(CPP_LOOP.replace("@states@", str(STATES)).replace("@repeat@", str(REPEAT * 5)))
-    build = subprocess.run(
-        [
-            "c++",
-            "-O3",
-            "-DNDEBUG",
-            "-std=c++17",
-            *DEFINES,
-            f"-I{include}",
-            f"-I{include / 'eigen3'}",
-            str(source),
-            "-o",
-            str(exe),
-            f"-L{PREFIX / 'lib'}",
-            "-lpinocchio_default",
-            "-lboost_serialization",
-            f"-Wl,-rpath,{PREFIX / 'lib'}",
-        ],
-        capture_output=True,
-        text=True,
-    )
-    if build.returncode != 0:
-        return f"the C++ harness does not build: {build.stderr[-300:]}"
-    model.saveToText(str(folder / "model.txt"))
-    out = subprocess.run(
-        [str(exe), str(folder / "model.txt")],
-        input=text(states),
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout
-    return tuple(float(x) for x in out.split()[:2])
-
-
-def bench(name: str, cpp: bool) -> dict:
+def bench(name: str, harness: Path | str) -> dict:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # files with inertias Pinocchio takes as they are
         system = eg.robots.load(name)
@@ -235,13 +74,14 @@ def bench(name: str, cpp: bool) -> dict:
     row["pin_fd_us"] = per_call(
         lambda *a: pin.computeABADerivatives(model, data, *a), list(zip(qp, u, tau))
     )
-    with tempfile.TemporaryDirectory() as tmp:
-        row["c_loop_id_us"], row["c_loop_fd_us"] = c_loop(eom, Path(tmp), list(zip(q, u, tau)))
-        looped = cpp_loop(model, Path(tmp), list(zip(qp, u, tau))) if cpp else "--no-cpp"
-    if isinstance(looped, str):
-        row["pin_loop_note"] = looped
-    else:
-        row["pin_loop_id_us"], row["pin_loop_fd_us"] = looped
+    with tempfile.TemporaryDirectory() as tmp:  # the loops of benchmarks/kernels.py, ns → µs
+        ours = kernels.c_loop(eom, Path(tmp), list(zip(q, u, tau)), LOOPED, kernels.FLAGS)
+        row["c_loop_id_us"], row["c_loop_fd_us"] = (ours[k][0] / 1e3 for k in LOOPED)
+        if isinstance(harness, str):
+            row["pin_loop_note"] = harness
+        else:
+            theirs = kernels.cpp_loop(harness, model, Path(tmp), list(zip(qp, u, tau)), LOOPED)
+            row["pin_loop_id_us"], row["pin_loop_fd_us"] = (theirs[k][0] / 1e3 for k in LOOPED)
     return row
 
 
@@ -259,8 +99,10 @@ def main() -> None:
         f" {'ratio':>6s} {'C loop':>8s} {'pin C++':>8s} {'ratio':>6s}"
     )
     rows = []
+    folder = tempfile.TemporaryDirectory()
+    harness = "--no-cpp" if args.no_cpp else kernels.cpp_harness(Path(folder.name), LOOPED, kernels.FLAGS)
     for name in args.names:
-        r = bench(name, not args.no_cpp)
+        r = bench(name, harness)
         rows.append(r)
         for kind, label in (("id", "ID"), ("fd", "FD")):
             theirs = r.get(f"pin_loop_{kind}_us")

@@ -18,7 +18,9 @@ Every vector is named before it is rotated or crossed, which keeps the code and 
 CRBA: composite (m, h = m c, I_O) from the leaves, moved to the parent by
     h' = R h + m t,  I_O' = R I_O Rᵀ + m (|t|² 1 − t tᵀ) + 2 (t · R h) 1 − t (R h)ᵀ − (R h) tᵀ;
     the momentum of the composite moved by u_j = 1, (m v_j + ω_j × h, I_O ω_j + h × v_j), carried to
-    each ancestor k gives M_kj = v_k · linear + ω_k · angular part."""
+    each ancestor k gives M_kj = v_k · linear + ω_k · angular part. Where many columns hang below few
+    joints (a hand under an arm), the ancestors' subspaces come down to the columns instead,
+    (v, ω) → (Rᵀ (v + ω × t), Rᵀ ω), and meet them there (`Recursion._meetings`)."""
 from __future__ import annotations
 
 import sympy as sp
@@ -41,6 +43,7 @@ class Recursion:
         self.S = {b: [(i, self.sub.add_matrix(v), self.sub.add_matrix(w))
                       for i, (v, w) in zip(b.speed_indices, b.joint.subspace())] for b in bodies}
         self.biases = {b: tuple(self.sub.add_matrix(x) for x in b.joint.bias()) for b in bodies if self.S[b]}
+        self._moved: dict = {}  # (a, k): body a's subspace in body k's frame
 
     def up(self, b, lin: sp.Matrix, ang: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
         """A force (lin, ang) in body b's frame, expressed in its parent's frame."""
@@ -113,29 +116,77 @@ class Recursion:
                 Rh = sub.add_matrix(matmul(R, h_c))
                 m = m + m_c
                 h = h + Rh + scale(m_c, t)
-                I_O = (I_O + matmul(matmul(R, I_c), R.T) + scale(m_c, dot(t, t) * sp.eye(3) - matmul(t, t.T))
+                RI = sub.add_matrix(matmul(R, I_c))
+                I_O = (I_O + matmul(RI, R.T) + scale(m_c, dot(t, t) * sp.eye(3) - matmul(t, t.T))
                        + 2 * dot(t, Rh) * sp.eye(3) - matmul(t, Rh.T) - matmul(Rh, t.T))
             comp[b] = (sub.add(m), sub.add_matrix(h), _symmetric(sub, I_O))
-        M = sp.zeros(self.n, self.n)
+        M, down = sp.zeros(self.n, self.n), self._meetings()
         for b in self.bodies:
             m, h, I_O = comp[b]
             for j, v, w in S[b]:  # the momentum of the composite moved by u_j = 1: (m v + ω × h, I_O ω + h × v)
-                lin = sub.add_matrix(scale(m, v) + cross(w, h))
-                ang = sub.add_matrix(matmul(I_O, w) + cross(h, v))
+                F = (sub.add_matrix(scale(m, v) + cross(w, h)), sub.add_matrix(matmul(I_O, w) + cross(h, v)))
                 k = b
                 while k is not None:
-                    for i, v_k, w_k in S[k]:
-                        if k is b and i > j:
-                            continue
-                        M_ij = dot(v_k, lin) + dot(w_k, ang)
-                        M[i, j] += M_ij
-                        if k is not b or i != j:  # a mimic below its driver meets it twice on M_jj
-                            M[j, i] += M_ij
-                    if k.parent is not None:
-                        lin, ang = self.up(k, lin, ang)
-                    k = k.parent
+                    above = k.parent is not None and down[k]  # the ancestors' subspaces come down to k
+                    for a in [k, *(self._ancestors(k) if above else [])]:
+                        for i, v_i, w_i in self._subspace(a, k):
+                            if k is b and a is b and i > j:
+                                continue
+                            M_ij = dot(v_i, F[0]) + dot(w_i, F[1])
+                            M[i, j] += M_ij
+                            if a is not b or i != j:  # a mimic below its driver meets it twice on M_jj
+                                M[j, i] += M_ij
+                    if above or k.parent is None:
+                        break
+                    F, k = self.up(k, *F), k.parent
         add_armature(self.kin, M)
         return M
+
+    def _meetings(self) -> dict:
+        """Where each column's momentum meets the subspaces of the joints above it: it moves up across
+        body k's joint (a spatial transform, ~42 operations, per column), or the ancestors' subspaces come
+        down to k (`down[k]`: a transform per subspace and edge, shared by the columns below, and dense
+        dot products of ~11 operations per pair where the subspace in its own frame has a few entries).
+        Below a body whose subspaces came down, one edge compares the columns with the subspaces."""
+        dofs = {b: len(self.S[b]) for b in self.bodies}
+        below = dict(dofs)
+        for b in reversed(self.bodies):
+            for c in self.children[b]:
+                below[b] += below[c]
+        down = {}
+        for k in self.bodies:  # parents first
+            ancestors = [a for a in self._ancestors(k) if dofs[a]]
+            above = sum(dofs[a] for a in ancestors)
+            if not above:
+                down[k] = False
+            elif down[k.parent]:
+                down[k] = above < below[k]
+            else:
+                edges = self._ancestors(k).index(ancestors[-1]) + 1
+                moves = sum(dofs[a] * (self._ancestors(k).index(a) + 1) for a in ancestors)
+                down[k] = 42 * moves + 11 * below[k] * above < below[k] * (42 * edges + 2 * above)
+        return down
+
+    def _ancestors(self, b) -> list:
+        out, k = [], b.parent
+        while k is not None:
+            out.append(k)
+            k = k.parent
+        return out
+
+    def _subspace(self, a, k) -> list:
+        """The motion subspace of body a's joint expressed in body k's frame (a = k or an ancestor):
+        (v, ω) in the parent's axes at its origin becomes (Rᵀ (v + ω × t), Rᵀ ω) in the child's."""
+        key = (a, k)
+        if key not in self._moved:
+            if a is k:
+                self._moved[key] = self.S[k]
+            else:
+                R, t = self.X[k]
+                self._moved[key] = [
+                    (i, self.sub.add_matrix(matmul(R.T, self.sub.add_matrix(v + cross(w, t)))),
+                     self.sub.add_matrix(matmul(R.T, w))) for i, v, w in self._subspace(a, k.parent)]
+        return self._moved[key]
 
 
 def inverse_dynamics(kin: Kinematics, loads: bool = False) -> sp.Matrix:
