@@ -142,13 +142,13 @@ static Matrix sym(const Matrix &A)  // the upper triangle Pinocchio fills, mirro
     return S;
 }
 
-static Matrix cat(std::initializer_list<Matrix> blocks)  // stacked rows, as eomgen's outputs
+static Matrix cat(std::initializer_list<Matrix> blocks)  // side by side, as eomgen's [A | B | C]
 {
-    Eigen::Index rows = 0;
-    for (const auto &b : blocks) rows += b.rows();
-    Matrix S(rows, blocks.begin()->cols());
-    rows = 0;
-    for (const auto &b : blocks) S.middleRows(rows, b.rows()) = b, rows += b.rows();
+    Eigen::Index cols = 0;
+    for (const auto &b : blocks) cols += b.cols();
+    Matrix S(blocks.begin()->rows(), cols);
+    cols = 0;
+    for (const auto &b : blocks) S.middleCols(cols, b.cols()) = b, cols += b.cols();
     return S;
 }
 
@@ -202,7 +202,7 @@ def text(states) -> str:
 
 
 def size(kernel: str, nv: int) -> int:
-    """The entries of a kernel's output: nv for a vector, k nv² for k stacked matrices."""
+    """The entries of a kernel's output: nv for a vector, k nv² for k matrices side by side."""
     return KERNELS[kernel][1] * nv * nv or nv
 
 

@@ -17,7 +17,7 @@ from .c_derivatives import CompiledDerivatives, plain_function, plain_parts
 from .extension import build, compiler, python_headers
 from .kinematic_functions import placement
 from .module import outputs
-from .numpy_backend import C, C_TRIG
+from .numpy_backend import C, C_TRIG, VECTOR_TRIG
 from .parameters import Parameters
 
 
@@ -121,7 +121,7 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
                   (f"X_{k}", placement(eom.kinematics, frame), False,
                    f"placement [R | p] (3 x 4) of frame {frame} in the world", [])]
     parts += [(out.key, out.build(), False, out.what, out.rows) for out in outputs(eom)] + plain_parts(eom)
-    body, decls, sources = ["#include <math.h>", f'#include "{name}.h"', ""], [], {}
+    body, decls, sources = ["#include <math.h>", VECTOR_TRIG, f'#include "{name}.h"', ""], [], {}
     for key, expr, symmetric, what, names in progress(parts, "writing C", unit="function"):
         source, (rows, cols), _ = sources[key] = c.source(f"{name}_{key}", expr, symmetric)
         body.append(source)

@@ -50,6 +50,7 @@ class Syntax:
     trig_q: str = "{f}({x})"  # sin / cos of q[k]; the extension reads them from arrays (sinq, cosq)
     segment: str = ""  # C: the header of a part of a long function (`FunctionWriter.source`), {name}
     call: str = ""  # the call of a part, {name}
+    vector_trig: bool = False  # sin and cos of the coordinates in vector loops (`VECTOR_TRIG`)
 
 
 # a long C function is split in parts the compiler does not merge back: its time grows faster than the length
@@ -61,6 +62,14 @@ NOINLINE = """#ifndef EOMGEN_NOINLINE
 #endif
 #endif"""
 SEGMENT = 2500  # statements per part
+# plain C: sin and cos of the coordinates in two loops that the compiler turns into glibc's vector sin and
+# cos (libmvec, within 4 ulp; part of -lm on x86-64 Linux), as wide as the machine it compiles for
+VECTOR_TRIG = """#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__GLIBC__) \\
+    && !defined(EOMGEN_NO_MVEC)
+__attribute__((simd("notinbranch"))) extern double sin(double);
+__attribute__((simd("notinbranch"))) extern double cos(double);
+#endif"""
+LANES = 8  # the trig loops run over a multiple of this: no remainder loop
 NAMES = re.compile(r"\b_[A-Za-z_]+[0-9]+\b")  # the variables of generated code: _x3, _q0, _sin_q1, ...
 
 
@@ -79,10 +88,12 @@ C = Syntax(header="void {name}(const double *q, const double *u, const double *u
            heaviside="(({x} > 0) ? 1.0 : ({x} < 0) ? 0.0 : {h} + 0.0 * {x})", logic=("&&", "||", "(!{c})"),
            nan="NAN", functions=C_FUNCTIONS,
            segment="static EOMGEN_NOINLINE void {name}(const double *q, const double *u, const double *ud, "
-                   "const double *p, double *out, double *X)\n{{", call="    {name}(q, u, ud, p, out, X);")
+                   "const double *p, double *out, double *X)\n{{", call="    {name}(q, u, ud, p, out, X);",
+           vector_trig=True)
 _TRIG_ARGS = ("const double *q, const double *u, const double *ud, const double *p, const double *sinq, "
               "const double *cosq")
 C_TRIG = replace(C, header="static void {name}(" + _TRIG_ARGS + ", double *out)\n{{", trig_q="{f}q[{k}]",
+                 vector_trig=False,
                  segment="static EOMGEN_NOINLINE void {name}(" + _TRIG_ARGS
                          + ", double *out, double *X)\n{{",
                  call="    {name}(q, u, ud, p, sinq, cosq, out, X);")
@@ -227,11 +238,6 @@ class FunctionWriter:
             preamble.update({f"_{arg}{k}": syntax.input.format(var=f"_{arg}{k}", arg=arg, k=k)
                              for k, s in enumerate(symbols) if s in used})
         ops = len(trig)
-        for t in sorted(trig, key=lambda t: self.trig[t]):
-            f, x = type(t).__name__, t.args[0]
-            trig_q = syntax.trig_q if x in self._q_index else "{f}({x})"
-            preamble[self.trig[t]] = syntax.assign.format(var=self.trig[t], expr=trig_q.format(
-                f=f, x=self.printer.names[x], k=self._q_index.get(x)))
         self.trig_indices = sorted({self._q_index[t.args[0]] for t in trig if t.args[0] in self._q_index})
         position = {s: k for k, s in enumerate(needed)}
         after: dict[int, list] = {}  # each output once the last intermediate it reads is known (short lives)
@@ -252,11 +258,36 @@ class FunctionWriter:
                 if symmetric and i != j:
                     statements.append((None, syntax.mirror.format(i=i, j=j, ij=i * cols + j,
                                                                   ji=j * cols + i)))
-        if syntax.segment and len(statements) > SEGMENT:
+        split = syntax.segment and len(statements) > SEGMENT
+        preamble.update(self._trig(trig, syntax.vector_trig and not split))  # parts: one by one
+        if split:
             return self._parts(name, preamble, statements), (rows, cols), ops
         lines = [syntax.header.format(name=name), *preamble.values(), *(text for _, text in statements),
                  syntax.footer.format()]
         return "\n".join(lines) + "\n", (rows, cols), ops
+
+    def _trig(self, trig: set, vectors: bool) -> dict[str, str]:
+        """The lines that compute sin and cos of the inputs: one call each, or, with `vectors` and two or more
+        coordinates, sin and cos of the coordinates in two loops over an array (`VECTOR_TRIG`)."""
+        syntax, lines = self.syntax, {}
+        trig = sorted(trig, key=lambda t: self.trig[t])
+        coordinates = sorted({t.args[0] for t in trig if t.args[0] in self._q_index}, key=self._q_index.get)
+        vectors = vectors and len(coordinates) > 1
+        if vectors:
+            n = -(-len(coordinates) // LANES) * LANES
+            values = [self.printer.names[x] for x in coordinates] + ["0.0"] * (n - len(coordinates))
+            lines["_tq"] = "\n".join([f"    double _tq[{n}] = {{{', '.join(values)}}}, _ts[{n}], _tc[{n}];",
+                                      f"    for (int k = 0; k < {n}; ++k) _ts[k] = sin(_tq[k]);",
+                                      f"    for (int k = 0; k < {n}; ++k) _tc[k] = cos(_tq[k]);"])
+        for t in trig:
+            f, x = type(t).__name__, t.args[0]
+            if vectors and x in self._q_index:
+                expr = f"_t{f[0]}[{coordinates.index(x)}]"
+            else:
+                trig_q = syntax.trig_q if x in self._q_index else "{f}({x})"
+                expr = trig_q.format(f=f, x=self.printer.names[x], k=self._q_index.get(x))
+            lines[self.trig[t]] = syntax.assign.format(var=self.trig[t], expr=expr)
+        return lines
 
     def _parts(self, name: str, preamble: dict[str, str], statements: list) -> str:
         """A long C function as parts of `SEGMENT` statements, each its own function, called in turn; the
