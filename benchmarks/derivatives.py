@@ -63,7 +63,7 @@ def bench(name: str, harness: Path | str) -> dict:
         "ops_ID_derivatives": f.ops["ID_derivatives"],
         "ops_FD_parts": f.ops["FD_parts"],
     }
-    model = to_pinocchio(system)
+    model = getattr(system, "pinocchio_model", None) or to_pinocchio(system)  # continuous joints: cos, sin
     data = model.createData()
     qp = pinocchio_configuration(system, q)
     row["c_id_us"] = per_call(f.inverse_dynamics_derivatives, list(zip(q, u, ud)))
@@ -99,8 +99,7 @@ def main() -> None:
         f" {'ratio':>6s} {'C loop':>8s} {'pin C++':>8s} {'ratio':>6s}"
     )
     rows = []
-    folder = tempfile.TemporaryDirectory()
-    harness = "--no-cpp" if args.no_cpp else kernels.cpp_harness(Path(folder.name), LOOPED, kernels.FLAGS)
+    harness = "--no-cpp" if args.no_cpp else kernels.cpp_harness(LOOPED, kernels.FLAGS)
     for name in args.names:
         r = bench(name, harness)
         rows.append(r)

@@ -24,6 +24,7 @@ Run: python benchmarks/kernels.py [names ...] [--kernels M nle ...] [--flags "-O
 from __future__ import annotations
 
 import argparse
+import hashlib
 import os
 import platform
 import shlex
@@ -67,6 +68,7 @@ KERNELS = {
     ),
 }
 DEFAULT_KERNELS = ["M", "nle", "g", "ID"]
+CACHE = Path.home() / ".cache" / "eomgen-benchmarks"  # the C++ harness, built once
 
 C_LOOP = r"""#include <stdio.h>
 #include <string.h>
@@ -251,9 +253,10 @@ def c_loop(eom, folder: Path, states, kernels: list[str], flags: str) -> dict:
     return {"write_c_s": written, "cc_s": compiled, **parse(out, kernels)}
 
 
-def cpp_harness(folder: Path, kernels: list[str], flags: str) -> Path | str:
-    """Pinocchio's C++ loop over the kernels (the model is read at run time: one build for all robots),
-    or why not."""
+def cpp_harness(kernels: list[str], flags: str) -> Path | str:
+    """Pinocchio's C++ loop over the kernels, or why not. The model is read at run time, so one build
+    (minutes, a few GB) serves every robot and later runs: it is kept in CACHE by a hash of its source,
+    flags, compiler and Pinocchio."""
     include = PREFIX / "include"
     if not (include / "eigen3").is_dir() or not (include / "pinocchio").is_dir():
         return "no Pinocchio or Eigen headers (pip install cmeel-eigen)"
@@ -262,12 +265,15 @@ def cpp_harness(folder: Path, kernels: list[str], flags: str) -> Path | str:
         f"{KERNELS[k][3]}); }});"
         for k in kernels
     )
+    text = CPP_LOOP.replace("@repeat@", str(REPEAT)).replace("@checked@", str(CHECKED)).replace("@runs@", runs)
+    compiler = subprocess.run(["c++", "--version"], capture_output=True, text=True).stdout
+    key = hashlib.sha256(repr((text, flags, compiler, pin.__version__)).encode()).hexdigest()[:16]
+    folder = CACHE / key
     source, exe = folder / "loop.cpp", folder / "loop_cpp"
-    source.write_text(
-        CPP_LOOP.replace("@repeat@", str(REPEAT))
-        .replace("@checked@", str(CHECKED))
-        .replace("@runs@", runs)
-    )
+    if exe.exists():
+        return exe
+    folder.mkdir(parents=True, exist_ok=True)
+    source.write_text(text)
     command = ["c++", *shlex.split(flags), "-DNDEBUG", "-std=c++17", *DEFINES, f"-I{include}"]
     command += [f"-I{include / 'eigen3'}", str(source), "-o", str(exe), f"-L{PREFIX / 'lib'}"]
     command += ["-lpinocchio_default", "-lboost_serialization", f"-Wl,-rpath,{PREFIX / 'lib'}"]
@@ -304,7 +310,7 @@ def bench(name: str, kernels: list[str], flags: str, harness: Path | str) -> dic
     t0 = time.perf_counter()
     eom = eg.derive(system)
     row = {"robot": name, "nv": len(system.u), "method": eom.method, "derive_s": time.perf_counter() - t0}
-    model = to_pinocchio(system)
+    model = getattr(system, "pinocchio_model", None) or to_pinocchio(system)  # continuous joints: cos, sin
     with tempfile.TemporaryDirectory() as tmp:
         ours = c_loop(eom, Path(tmp), list(zip(q, u, ud)), kernels, flags)
         row["write_c_s"], row["cc_s"] = ours.pop("write_c_s"), ours.pop("cc_s")
@@ -349,8 +355,7 @@ def main() -> None:
         f" {'error':>8s}"
     )
     rows, bad = [], []
-    folder = tempfile.TemporaryDirectory()
-    harness = "--no-cpp" if args.no_cpp else cpp_harness(Path(folder.name), args.kernels, args.flags)
+    harness = "--no-cpp" if args.no_cpp else cpp_harness(args.kernels, args.flags)
     for name in args.names:
         r = bench(name, args.kernels, args.flags, harness)
         rows.append(r)
