@@ -221,7 +221,7 @@ def parse(out: str, kernels: list[str]) -> dict[str, tuple[float, np.ndarray]]:
 def c_loop(eom, folder: Path, states, kernels: list[str], flags: str) -> dict:
     """{kernel: (ns per call, outputs)} of write_c's functions in a C loop, and the build's seconds."""
     t0 = time.perf_counter()
-    c_path, _ = eg.write_c(eom, folder, name="eom")
+    c_path, _ = eg.write_c(eom, folder, name="eom", derivatives=any("derivatives" in k for k in kernels))
     written = time.perf_counter() - t0
     nv = len(eom.u)
     runs = "\n".join(f'    run("{k}", eom_{k}, {size(k, nv)});' for k in kernels)

@@ -3,7 +3,9 @@ import numpy as np
 import pytest
 
 import eomgen as eg
+from eomgen.model import pinocchio_configuration
 from eomgen.verify import verify
+from models import close
 
 
 @pytest.mark.parametrize("name,method", [("ur5", "recursive"), ("panda", "projected_newton_euler"),
@@ -199,3 +201,54 @@ def test_large_batches_run_over_the_cores(tmp_path, monkeypatch):
     q, u, _ = eg.random_states(system, 64 * 40 + 7, np.random.default_rng(28))
     for c, py in [(fc.M(q), fn.M(q)), (fc.b(q, u), fn.b(q, u)), (fc.nle(q, u), fn.nle(q, u))]:
         np.testing.assert_allclose(c, py, rtol=1e-12, atol=1e-12)
+
+
+def test_write_c_vector_trig_equals_pinocchio(tmp_path):
+    """Compiled for this machine, the plain C's sines and cosines come from glibc's vector functions
+    (libmvec); M, b + g and the inverse dynamics still equal Pinocchio's crba, nonLinearEffects and rnea.
+    Without the derivatives, their functions are not written."""
+    import subprocess
+
+    import pinocchio as pin
+
+    system = eg.robots.load("panda")
+    eom = eg.derive(system)
+    c_path, h_path = eg.write_c(eom, tmp_path, name="panda", derivatives=False)
+    header = h_path.read_text()
+    assert "panda_ID(" in header and "_derivatives" not in header
+    (tmp_path / "main.c").write_text(r"""#include <stdio.h>
+#include "panda.h"
+int main(void)
+{
+    double q[PANDA_NQ], u[PANDA_NV], ud[PANDA_NV], p[1] = {0};
+    while (1) {
+        double M[PANDA_NV * PANDA_NV] = {0}, h[PANDA_NV] = {0}, tau[PANDA_NV] = {0};
+        for (int i = 0; i < PANDA_NQ; i++) if (scanf("%lf", &q[i]) != 1) return 0;
+        for (int i = 0; i < PANDA_NV; i++) if (scanf("%lf", &u[i]) != 1) return 1;
+        for (int i = 0; i < PANDA_NV; i++) if (scanf("%lf", &ud[i]) != 1) return 1;
+        panda_M(q, u, ud, p, M), panda_nle(q, u, ud, p, h), panda_ID(q, u, ud, p, tau);
+        for (int i = 0; i < PANDA_NV * PANDA_NV; i++) printf("%.17g ", M[i]);
+        for (int i = 0; i < PANDA_NV; i++) printf("%.17g %.17g ", h[i], tau[i]);
+        printf("\n");
+    }
+}
+""")
+    exe = tmp_path / "main"
+    subprocess.run(["cc", "-O3", "-march=native", "-Wall", "-Werror", str(tmp_path / "main.c"), str(c_path),
+                    "-o", str(exe), "-lm"], check=True)
+    symbols = subprocess.run(["nm", str(exe)], capture_output=True, text=True, check=True).stdout
+    assert "_ZGV" in symbols  # glibc's vector sin and cos are called
+    q, u, ud = eg.random_states(system, 20, np.random.default_rng(1))
+    lines = subprocess.run([str(exe)], input="".join(" ".join(repr(float(x)) for x in np.concatenate(s)) + "\n"
+                                                     for s in zip(q, u, ud)),
+                           capture_output=True, text=True, check=True).stdout.splitlines()
+    model, nv = system.pinocchio_model, system.nv
+    data = model.createData()
+    for k, line in enumerate(lines):
+        values = np.array(line.split(), float)
+        qp = pinocchio_configuration(system, q[k])
+        M = pin.crba(model, data, qp)
+        close(values[:nv * nv].reshape(nv, nv), np.triu(M) + np.triu(M, 1).T, 1e-12, f"M {k}")
+        close(values[nv * nv::2], pin.nonLinearEffects(model, data, qp, u[k]), 1e-12, f"nle {k}")
+        close(values[nv * nv + 1::2], pin.rnea(model, data, qp, u[k], ud[k]), 1e-12, f"ID {k}")
+    assert len(lines) == 20

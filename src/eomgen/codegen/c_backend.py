@@ -96,15 +96,16 @@ def comment(text: str) -> str:
 
 
 def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
-            frames: list[str] | None = None) -> tuple[Path, Path]:
+            frames: list[str] | None = None, derivatives: bool = True) -> tuple[Path, Path]:
     """Plain C (no Python) for a controller: <name>.c and <name>.h with <name>_<quantity> for M, b, g,
     nle, T, U (those derived) and tau, per frame <name>_J_<k>, <name>_Jdot_u_<k>, <name>_X_<k> (default:
     the frames of derive(frames=...), else all), <name>_com, <name>_J_com, <name>_A_G (moving mass, no
     flexible link) and with contacts, loops or rolling disks <name>_J_c,
-    <name>_Jdot_c_u and (loops, disks) <name>_closure, each f(q, u, ud, p, out). The header documents
-    the inputs index by index (p[k]: the parameters sorted by name), and per function its output
-    (row-major, zeroed by the caller; the constraint rows by name) and the entries of q, u, ud, p it
-    reads."""
+    <name>_Jdot_c_u and (loops, disks) <name>_closure, the inverse dynamics <name>_ID and its
+    derivatives <name>_ID_derivatives, <name>_FD_derivatives (`derivatives=False` leaves those two out:
+    the largest functions of a big robot), each f(q, u, ud, p, out). The header documents the inputs
+    index by index (p[k]: the parameters sorted by name), and per function its output (row-major,
+    zeroed by the caller; the constraint rows by name) and the entries of q, u, ud, p it reads."""
     equations(eom, "write_c")
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,63}", name):
         raise ModelError(f"write_c: name must be a C identifier, got {name!r}")
@@ -120,7 +121,9 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
                    f"J̇ u of frame {frame} ([linear; angular])", []),
                   (f"X_{k}", placement(eom.kinematics, frame), False,
                    f"placement [R | p] (3 x 4) of frame {frame} in the world", [])]
-    parts += [(out.key, out.build(), False, out.what, out.rows) for out in outputs(eom)] + plain_parts(eom)
+    parts += [(out.key, out.build(), False, out.what, out.rows) for out in outputs(eom)
+              if derivatives or out.key not in ("ID_derivatives", "FD_jacobian")]
+    parts += plain_parts(eom) if derivatives else []
     body, decls, sources = ["#include <math.h>", VECTOR_TRIG, f'#include "{name}.h"', ""], [], {}
     for key, expr, symmetric, what, names in progress(parts, "writing C", unit="function"):
         source, (rows, cols), _ = sources[key] = c.source(f"{name}_{key}", expr, symmetric)
@@ -129,7 +132,8 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
         named = "".join(f"\n *   row {r}: {comment(row)}" for r, row in enumerate(names))
         decls.append(f"/* {comment(what)}{named}\n * out: {rows} x {cols}, row-major; reads "
                      f"{used or 'nothing'} */\n{C.header.format(name=f'{name}_{key}').split(chr(10))[0]};")
-    if forward := plain_function(eom, name, {key: source for key, (source, _, _) in sources.items()}):
+    written = {key: source for key, (source, _, _) in sources.items()}
+    if derivatives and (forward := plain_function(eom, name, written)):
         body.append(forward[0])
         decls.append(forward[1])
     c_path, h_path = directory / f"{name}.c", directory / f"{name}.h"
