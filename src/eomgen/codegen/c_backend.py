@@ -12,13 +12,14 @@ from .. import __version__
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..progress import progress
-from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer
+from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer, written
 from .c_derivatives import CompiledDerivatives, plain_function, plain_parts
 from .extension import build, compiler, python_headers
 from .kinematic_functions import placement
 from .module import outputs
 from .numpy_backend import C, C_TRIG
 from .parameters import Parameters
+from .vector import C_VECTOR, vector_source
 
 
 class CompiledEoM(CompiledDerivatives, NumericEoM):
@@ -28,7 +29,7 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
 
     def __init__(self, eom: EquationsOfMotion) -> None:
         compiler(), python_headers()  # a clear error before any work
-        self._c = writer(eom, C_TRIG)
+        self._c, self._lanes = writer(eom, C_TRIG), writer(eom, C_VECTOR)
         self._pending: dict = {}
         self._deferring = True
         super().__init__(eom)  # registers the eager functions, then builds them together
@@ -44,12 +45,14 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
         return self.functions.get(key)
 
     def _build(self, keys: list[str]) -> None:
-        written = []
+        written, lanes = [], {}
         for i, key in enumerate(progress(keys, "printing C", unit="function")):
-            expr, symmetric = self._pending.pop(key)
-            source, shape, ops = self._c.source(f"e{i}", expr(), symmetric)
+            build, symmetric = self._pending.pop(key)
+            expr = build()
+            source, shape, ops = self._c.source(f"e{i}", expr, symmetric)
             written.append((key, source, shape, ops, self._c.trig_indices))
-        self.functions.update(extension_functions(written, self.nq, self.nv, len(self.params)))
+            lanes[key] = vector_source(self._lanes, f"w{i}", expr, symmetric)
+        self.functions.update(extension_functions(written, self.nq, self.nv, len(self.params), lanes))
 
     def _pvec(self, params, key) -> list[float] | np.ndarray | None:
         """p as the extension reads it: the bound values, else those `key` uses (the others 0.0)."""
@@ -62,29 +65,32 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
             self._on_demand(key)
         return self.functions[key]
 
-    def call(self, key, q, u=None, ud=None, params=None) -> np.ndarray:
-        return self._get(key).function(q, u, ud, self._pvec(params, key))
+    def call(self, key, q, u=None, ud=None, params=None, out=None) -> np.ndarray:
+        return self._get(key).function(q, u, ud, self._pvec(params, key), out)
 
     # the common entry points call the compiled function directly (vector outputs as vectors)
-    def M(self, q, params=None) -> np.ndarray:
-        return self._get("M").function(q, None, None, self._pvec(params, "M"))
+    def M(self, q, params=None, out=None) -> np.ndarray:
+        return self._get("M").function(q, None, None, self._pvec(params, "M"), out)
 
-    def b(self, q, u, params=None) -> np.ndarray:
-        return self._get("b").vector(q, u, None, self._pvec(params, "b"))
+    def b(self, q, u, params=None, out=None) -> np.ndarray:
+        return self._get("b").vector(q, u, None, self._pvec(params, "b"), out)
 
-    def g(self, q, params=None) -> np.ndarray:
-        return self._get("g").vector(q, None, None, self._pvec(params, "g"))
+    def g(self, q, params=None, out=None) -> np.ndarray:
+        return self._get("g").vector(q, None, None, self._pvec(params, "g"), out)
 
-    def nle(self, q, u, params=None) -> np.ndarray:
+    def nle(self, q, u, params=None, out=None) -> np.ndarray:
         if "nle" not in self.functions:
-            return self.b(q, u, params) + self.g(q, params)
-        return self.functions["nle"].vector(q, u, None, self._pvec(params, "nle"))
+            return written(self.b(q, u, params) + self.g(q, params), out)
+        return self.functions["nle"].vector(q, u, None, self._pvec(params, "nle"), out)
 
 
-def extension_functions(written: list, nq: int, nv: int, n_params: int) -> dict[str, Generated]:
-    """The written functions [(key, C source of e<i>, shape, operations, trig indices)], compiled into
-    one extension module."""
-    module = build([(source, shape, trig) for _, source, shape, _, trig in written], nq, nv, n_params)
+def extension_functions(written: list, nq: int, nv: int, n_params: int,
+                        lanes: dict[str, str | None] | None = None) -> dict[str, Generated]:
+    """The written functions [(key, C source of e<i>, shape, operations, trig indices)], with the C of
+    w<i> for W states at once by key (`vector.vector_source`), compiled into one extension module."""
+    lanes = lanes or {}
+    module = build([(source, lanes.get(key), shape, trig) for key, source, shape, _, trig in written], nq, nv,
+                   n_params)
     return {key: Generated(source, shape, ops, getattr(module, f"m{i}"), getattr(module, f"v{i}"))
             for i, (key, source, shape, ops, _) in enumerate(written)}
 

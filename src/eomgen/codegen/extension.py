@@ -1,10 +1,11 @@
 """Generated C functions as one CPython extension module: compiled with the machine's C compiler,
 cached by a hash of the source (and of the compiler flags, Python and NumPy it was built for), and
-imported. Each function `e<i>` is exposed twice: `m<i>(q, u=None, ud=None, p=None)` returns the
-output matrix (rows, cols), `v<i>` the column as a vector (rows,); q of shape (nq,) is one state,
-(N, nq) is N states evaluated in one C loop with the GIL released, over all cores for large N (OpenMP;
-OMP_NUM_THREADS=1 for one). Inputs are checked in C with the
-messages of the NumPy backend (the argument named, shapes, NaN and infinities).
+imported. Each function `e<i>` is exposed twice: `m<i>(q, u=None, ud=None, p=None, out=None)` returns
+the output matrix (rows, cols), `v<i>` the column as a vector (rows,), written into `out` when given;
+q of shape (nq,) is one state, (N, nq) is N states evaluated in one C loop with the GIL released, over
+all cores for large N (OpenMP; OMP_NUM_THREADS=1 for one), W states at a time in vector registers by
+`w<i>` where it exists (`vector`). Inputs are checked in C with the messages of the NumPy backend (the
+argument named, shapes, NaN and infinities).
 
 The cache, $EOMGEN_CACHE or ~/.cache/eomgen, is created private to the user (mode 0o700). Its modules
 are loaded as code, so a folder that other users could write into is refused (world-writable, or owned
@@ -32,8 +33,9 @@ import numpy as np
 
 from ..errors import ModelError
 from ..progress import progress
+from . import vector
 
-FLAGS = ["-O2", "-fno-math-errno", "-ftree-vectorize", "-fPIC", "-shared"]
+FLAGS = ["-O2", "-march=native", "-fno-math-errno", "-ftree-vectorize", "-fPIC", "-shared"]
 # batches over the cores with vector sin and cos; else one core, scalar sin and cos
 ATTEMPTS = (["-fopenmp", "-lmvec", "-lm"], ["-DEOMGEN_NO_MVEC", "-lm"])
 
@@ -43,17 +45,24 @@ PRELUDE = r"""#define PY_SSIZE_T_CLEAN
 #include <numpy/arrayobject.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
+
+static void dims_text(char *buf, size_t size, int nd, const npy_intp *dims)
+{
+    /* "(6,)", "(10, 6)", as Python prints a shape */
+    size_t used = (size_t)snprintf(buf, size, "(");
+    for (int d = 0; d < nd && used < size; ++d)
+        used += (size_t)snprintf(buf + used, size - used, d ? ", %ld" : "%ld", (long)dims[d]);
+    if (used < size)
+        snprintf(buf + used, size - used, nd == 1 ? ",)" : ")");
+}
 
 static void shape_text(char *buf, size_t size, PyObject *obj)
 {
-    /* "(6,)", "(10, 6)", as Python prints a shape */
-    int nd = PyArray_Check(obj) ? PyArray_NDIM((PyArrayObject *)obj) : 0;
-    size_t used = (size_t)snprintf(buf, size, "(");
-    for (int d = 0; d < nd && used < size; ++d)
-        used += (size_t)snprintf(buf + used, size - used, d ? ", %ld" : "%ld",
-                                 (long)PyArray_DIM((PyArrayObject *)obj, d));
-    if (used < size)
-        snprintf(buf + used, size - used, nd == 1 ? ",)" : ")");
+    if (PyArray_Check(obj))
+        dims_text(buf, size, PyArray_NDIM((PyArrayObject *)obj), PyArray_DIMS((PyArrayObject *)obj));
+    else
+        dims_text(buf, size, 0, NULL);
 }
 
 /* x as a C-contiguous float64 array of shape batch + (n,), or NULL with a ValueError naming it. */
@@ -112,13 +121,82 @@ static void trig_block(const double *q, int m, const int *idx, int nt, double *s
     }
 }
 
-static PyObject *evaluate(eomgen_fn f, const int *idx, int nt, npy_intp rows, npy_intp cols, int vector,
-                          PyObject *const *args, Py_ssize_t nargs)
+static void one_state(eomgen_fn f, const int *idx, int nt, const double *q, const double *u, const double *ud,
+                      const double *p, double *out)
 {
-    if (nargs < 1 || nargs > 4)
-        return PyErr_Format(PyExc_TypeError, "expected (q, u=None, ud=None, p=None), got %zd arguments", nargs);
-    PyArrayObject *a[4] = {NULL, NULL, NULL, NULL};
-    PyObject *result = NULL;
+    double sinq[NQ], cosq[NQ];
+    for (int t = 0; t < nt; ++t) {
+        sinq[idx[t]] = sin(q[idx[t]]);
+        cosq[idx[t]] = cos(q[idx[t]]);
+    }
+    f(q, u, ud, p, sinq, cosq, out);
+}
+
+/* N states one at a time (out zeroed), in blocks of BLOCK over the cores for large N. 0, or -1 when out of
+   memory */
+static int batch(eomgen_fn f, const int *idx, int nt, npy_intp size, npy_intp n, const double *q, const double *u,
+                 npy_intp su, const double *ud, npy_intp sud, const double *p, double *out)
+{
+    int failed = 0;
+    npy_intp blocks = (n + BLOCK - 1) / BLOCK;
+    /* blocks of states over the cores (OpenMP, OMP_NUM_THREADS) when the batch is large */
+    #pragma omp parallel if (blocks >= 16)
+    {
+        double *sinq = malloc(2 * sizeof(double) * BLOCK * NQ), *cosq = sinq + BLOCK * NQ;
+        #pragma omp for schedule(static)
+        for (npy_intp b = 0; b < blocks; ++b) {
+            npy_intp k0 = b * BLOCK;
+            int m = n - k0 < BLOCK ? (int)(n - k0) : BLOCK;
+            if (sinq == NULL) {
+                failed = 1;
+                continue;
+            }
+            trig_block(q + k0 * NQ, m, idx, nt, sinq, cosq);
+            for (npy_intp k = k0; k < k0 + m; ++k)
+                f(q + k * NQ, u + k * su, ud + k * sud, p, sinq + (k - k0) * NQ, cosq + (k - k0) * NQ,
+                  out + k * size);
+        }
+        free(sinq);
+    }
+    return failed ? -1 : 0;
+}
+"""
+
+EVALUATE = r"""
+/* out, when given: a writeable C-contiguous float64 array of shape `shape` (a new reference), else NULL
+   with a ValueError naming it */
+static PyArrayObject *output(PyObject *out, int nd, const npy_intp *shape)
+{
+    char want[128], got[128];
+    PyArrayObject *a = (PyArrayObject *)out;
+    int ok = PyArray_Check(out) && PyArray_TYPE(a) == NPY_DOUBLE && PyArray_IS_C_CONTIGUOUS(a)
+             && PyArray_ISWRITEABLE(a) && PyArray_NDIM(a) == nd;
+    for (int d = 0; ok && d < nd; ++d)
+        ok = PyArray_DIM(a, d) == shape[d];
+    if (ok) {
+        Py_INCREF(out);
+        return a;
+    }
+    dims_text(want, sizeof want, nd, shape);
+    if (!PyArray_Check(out)) {
+        PyErr_Format(PyExc_ValueError, "out: expected a writeable C-contiguous float64 array of shape %s, got %s",
+                     want, Py_TYPE(out)->tp_name);
+        return NULL;
+    }
+    shape_text(got, sizeof got, out);
+    PyErr_Format(PyExc_ValueError, "out: expected a writeable C-contiguous float64 array of shape %s, got a%s %s "
+                 "array of shape %s", want, !PyArray_IS_C_CONTIGUOUS(a) ? " non-contiguous" : !PyArray_ISWRITEABLE(a)
+                 ? " read-only" : "", PyArray_DESCR(a)->typeobj->tp_name, got);
+    return NULL;
+}
+
+static PyObject *evaluate(eomgen_fn f, eomgen_vfn v, const int *idx, int nt, npy_intp rows, npy_intp cols,
+                          int vector, PyObject *const *args, Py_ssize_t nargs)
+{
+    if (nargs < 1 || nargs > 5)
+        return PyErr_Format(PyExc_TypeError, "expected (q, u=None, ud=None, p=None, out=None), got %zd arguments",
+                            nargs);
+    PyArrayObject *a[4] = {NULL, NULL, NULL, NULL}, *result = NULL;
     static const char *names[4] = {"q", "u", "ud", "p"};
     a[0] = input(args[0], "q", NQ, -1, 0);
     if (a[0] == NULL)
@@ -135,58 +213,41 @@ static PyObject *evaluate(eomgen_fn f, const int *idx, int nt, npy_intp rows, np
         PyErr_SetString(PyExc_TypeError, "p: the parameter values are required");
         goto done;
     }
-    npy_intp dims[4] = {n, rows, cols, 0};
-    result = PyArray_ZEROS(nd + 1 - vector, nd == 2 ? dims : dims + 1, NPY_DOUBLE, 0);
+    int lanes = nd == 2 && v != NULL;  /* W states at a time, every entry written */
+    npy_intp dims[3] = {n, rows, cols}, *shape = nd == 2 ? dims : dims + 1;
+    if (nargs == 5 && args[4] != Py_None) {
+        result = output(args[4], nd + 1 - vector, shape);
+        if (result != NULL && !lanes)
+            memset(PyArray_DATA(result), 0, PyArray_NBYTES(result));
+    } else
+        result = (PyArrayObject *)(lanes ? PyArray_EMPTY(nd + 1 - vector, shape, NPY_DOUBLE, 0)
+                                         : PyArray_ZEROS(nd + 1 - vector, shape, NPY_DOUBLE, 0));
     if (result == NULL)
         goto done;
     {
         const double *q = PyArray_DATA(a[0]);
         const double *u = a[1] ? PyArray_DATA(a[1]) : ZEROS, *ud = a[2] ? PyArray_DATA(a[2]) : ZEROS;
         const double *p = a[3] ? PyArray_DATA(a[3]) : ZEROS;
-        npy_intp su = a[1] ? NV : 0, sud = a[2] ? NV : 0, size = rows * cols;
-        double *out = PyArray_DATA((PyArrayObject *)result);
-        if (nd == 1) {
-            double sinq[NQ], cosq[NQ];
-            for (int t = 0; t < nt; ++t) {
-                sinq[idx[t]] = sin(q[idx[t]]);
-                cosq[idx[t]] = cos(q[idx[t]]);
-            }
-            f(q, u, ud, p, sinq, cosq, out);
-        } else {
-            int failed = 0;
-            npy_intp blocks = (n + BLOCK - 1) / BLOCK;
+        npy_intp su = a[1] ? NV : 0, sud = a[2] ? NV : 0;
+        double *out = PyArray_DATA(result);
+        int failed = 0;
+        if (nd == 1)
+            one_state(f, idx, nt, q, u, ud, p, out);
+        else {
             Py_BEGIN_ALLOW_THREADS
-            /* blocks of states over the cores (OpenMP, OMP_NUM_THREADS) when the batch is large */
-            #pragma omp parallel if (blocks >= 16)
-            {
-                double *sinq = malloc(2 * sizeof(double) * BLOCK * NQ), *cosq = sinq + BLOCK * NQ;
-                #pragma omp for schedule(static)
-                for (npy_intp b = 0; b < blocks; ++b) {
-                    npy_intp k0 = b * BLOCK;
-                    int m = n - k0 < BLOCK ? (int)(n - k0) : BLOCK;
-                    if (sinq == NULL) {
-                        failed = 1;
-                        continue;
-                    }
-                    trig_block(q + k0 * NQ, m, idx, nt, sinq, cosq);
-                    for (npy_intp k = k0; k < k0 + m; ++k)
-                        f(q + k * NQ, u + k * su, ud + k * sud, p, sinq + (k - k0) * NQ, cosq + (k - k0) * NQ,
-                          out + k * size);
-                }
-                free(sinq);
-            }
+            failed = lanes ? batch_vector(v, idx, nt, rows * cols, n, q, u, su, ud, sud, p, out)
+                           : batch(f, idx, nt, rows * cols, n, q, u, su, ud, sud, p, out);
             Py_END_ALLOW_THREADS
-            if (failed) {
-                Py_CLEAR(result);
-                PyErr_NoMemory();
-                goto done;
-            }
+        }
+        if (failed) {
+            Py_CLEAR(result);
+            PyErr_NoMemory();
         }
     }
 done:
     for (int k = 0; k < 4; ++k)
         Py_XDECREF(a[k]);
-    return result;
+    return (PyObject *)result;
 }
 """
 
@@ -244,17 +305,19 @@ def cache_dir() -> Path:
     return folder
 
 
-def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int) -> str:
-    """The extension module `name`: the functions (C text of `e<i>`, output shape, the k of the sin(q[k])
-    and cos(q[k]) it reads) and their wrappers."""
-    parts = [f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n", PRELUDE]
+def module_source(name: str, functions: list[tuple[str, str | None, tuple, list[int]]], nq: int, nv: int,
+                  n_params: int) -> str:
+    """The extension module `name`: the functions (C text of `e<i>`, of `w<i>` for W states at once or None,
+    output shape, the k of the sin(q[k]) and cos(q[k]) it reads) and their wrappers."""
+    parts = [f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n", PRELUDE, vector.PRELUDE, EVALUATE]
     table = []
-    for i, (source, (rows, cols), trig) in enumerate(functions):
-        parts.append(source)  # static functions (`numpy_backend.C_TRIG`)
+    for i, (source, lanes, (rows, cols), trig) in enumerate(functions):
+        parts += [source, lanes or ""]  # static functions (`numpy_backend.C_TRIG`, `vector.C_VECTOR`)
         parts.append(f"static const int t{i}[] = {{{', '.join(map(str, trig or [0]))}}};\n")
-        for kind, vector in (("m", 0), ("v", 1)):
+        for kind, column in (("m", 0), ("v", 1)):
             parts.append(f"static PyObject *{kind}{i}(PyObject *self, PyObject *const *args, Py_ssize_t nargs)\n"
-                         f"{{ return evaluate(e{i}, t{i}, {len(trig)}, {rows}, {cols}, {vector}, args, nargs); }}\n")
+                         f"{{ return evaluate(e{i}, {f'w{i}' if lanes else 'NULL'}, t{i}, {len(trig)}, {rows}, "
+                         f"{cols}, {column}, args, nargs); }}\n")
             table.append(f'    {{"{kind}{i}", (PyCFunction)(void (*)(void)){kind}{i}, METH_FASTCALL, NULL}},')
     parts.append("static PyMethodDef methods[] = {\n" + "\n".join(table) + "\n    {NULL, NULL, 0, NULL}\n};\n"
                  f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, methods}};\n'
@@ -307,10 +370,11 @@ def load(name: str, target: Path):
     return module
 
 
-def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int):
-    """Compile (once per distinct source, compiler, flags, Python and NumPy) and import the extension module;
+def build(functions: list[tuple[str, str | None, tuple, list[int]]], nq: int, nv: int, n_params: int):
+    """Compile (once per distinct source, compiler, flags, machine, Python and NumPy) and import the extension module;
     a cached module that is not intact or does not load is rebuilt once."""
-    key = repr((functions, nq, nv, n_params, compiler(), FLAGS, ATTEMPTS, sys.version, np.__version__)).encode()
+    key = repr((functions, nq, nv, n_params, compiler(), FLAGS, ATTEMPTS, vector.machine(), sys.version,
+                np.__version__)).encode()
     name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
     target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
     if name in sys.modules:
