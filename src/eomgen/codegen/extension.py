@@ -371,10 +371,10 @@ def load(name: str, target: Path):
 
 
 def build(functions: list[tuple[str, str | None, tuple, list[int]]], nq: int, nv: int, n_params: int):
-    """Compile (once per distinct source, compiler, flags, machine, Python and NumPy) and import the extension module;
-    a cached module that is not intact or does not load is rebuilt once."""
-    key = repr((functions, nq, nv, n_params, compiler(), FLAGS, ATTEMPTS, vector.machine(), sys.version,
-                np.__version__)).encode()
+    """Compile (once per distinct source, prelude included, compiler, flags, machine, Python and NumPy) and
+    import the extension module; a cached module that is not intact or does not load is rebuilt once."""
+    key = repr((PRELUDE, vector.PRELUDE, EVALUATE, functions, nq, nv, n_params, compiler(), FLAGS, ATTEMPTS,
+                vector.machine(), sys.version, np.__version__)).encode()
     name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
     target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
     if name in sys.modules:

@@ -39,6 +39,25 @@ def lanes(name: str, arity: int) -> str:
             f"return r; }}\n#define v_{name}({given}) v_{name}_({', '.join(f'VD(x{k})' for k in range(arity))})")
 
 
+def transpose() -> str:
+    """C of transpose(r): the W x W matrix of rows r[0..W-1] transposed in registers, for each W, by
+    swapping the off-diagonal blocks of size h = W/2, ..., 1 (two shuffles per pair of rows)."""
+    lines = ["#ifdef __clang__", "#define SHUFFLE(a, b, ...) __builtin_shufflevector(a, b, __VA_ARGS__)",
+             "#else", "#define SHUFFLE(a, b, ...) __builtin_shuffle(a, b, (vl){__VA_ARGS__})", "#endif",
+             "static inline void transpose(vd *r)", "{"]
+    for w in (8, 4, 2):
+        lines.append(f"#{'if' if w == 8 else 'elif'} W == {w}")
+        h = w // 2
+        while h:
+            for i in (i for i in range(w) if not i & h):
+                low = [k if not k & h else w + k - h for k in range(w)]
+                high = [k + h if not k & h else w + k for k in range(w)]
+                lines.append(f"    {{ vd a = r[{i}], b = r[{i + h}]; r[{i}] = SHUFFLE(a, b, {', '.join(map(str, low))}); "
+                             f"r[{i + h}] = SHUFFLE(a, b, {', '.join(map(str, high))}); }}")
+            h //= 2
+    return "\n".join(lines + ["#endif", "}"])
+
+
 PRELUDE = r"""/* W states at a time in vector registers (GCC's vector extension), structure of arrays */
 #if defined(__AVX512F__)
 #define W 8
@@ -48,17 +67,62 @@ PRELUDE = r"""/* W states at a time in vector registers (GCC's vector extension)
 #define W 2
 #endif
 typedef double vd __attribute__((vector_size(W * sizeof(double))));
+typedef long long vl __attribute__((vector_size(W * sizeof(double))));
 #define VD(x) _Generic((x), vd: (x), default: (vd){0} + (x))  /* numbers and doubles to all lanes */
 """ + "\n".join([lanes(f, 1) for f in UNARY] + [lanes(f, 2) for f in BINARY]) + r"""
 
+""" + transpose() + r"""
+
 typedef void (*eomgen_vfn)(const vd *, const vd *, const vd *, const vd *, const vd *, const vd *, vd *);
 
-/* xv[j][l] = x[l * stride + j], j < n, for the m states from x; the first state in the lanes past m */
+/* xv[j][l] = x[l * stride + j], j < n, for the m states from x; the first state in the lanes past m. A full
+   block in W x W tiles (the last one overlapping the one before it, or past n when n < W); a row that would
+   run past the block's end is copied to n */
 static void gather(const double *x, npy_intp stride, int m, int n, vd *xv)
 {
-    for (int j = 0; j < n; ++j)
+    if (m < W) {
+        for (int j = 0; j < n; ++j)
+            for (int l = 0; l < W; ++l)
+                xv[j][l] = x[(l < m ? l : 0) * stride + j];
+        return;
+    }
+    for (int j = 0; j < n; j += W) {
+        int j0 = n >= W && j + W > n ? n - W : j, count = n - j0 < W ? n - j0 : W;
+        vd r[W] = {0};
         for (int l = 0; l < W; ++l)
-            xv[j][l] = x[(l < m ? l : 0) * stride + j];
+            if (l * stride + j0 + W <= W * stride)
+                memcpy(&r[l], x + l * stride + j0, sizeof(vd));
+            else
+                for (int k = 0; k < count; ++k)
+                    r[l][k] = x[l * stride + j0 + k];
+        transpose(r);
+        for (int k = 0; k < count; ++k)
+            xv[j0 + k] = r[k];
+    }
+}
+
+/* out[l * size + i] = ov[i][l], i < size, for the m states of a block; a full one in W x W tiles as
+   `gather` (ov holds at least W entries: a row past size lands in the next state's entries, written after) */
+static void scatter(const vd *ov, npy_intp size, int m, double *out)
+{
+    if (m < W) {
+        for (int l = 0; l < m; ++l)
+            for (npy_intp i = 0; i < size; ++i)
+                out[l * size + i] = ov[i][l];
+        return;
+    }
+    for (npy_intp i = 0; i < size; i += W) {
+        npy_intp i0 = size >= W && i + W > size ? size - W : i, count = size - i0 < W ? size - i0 : W;
+        vd r[W];
+        memcpy(r, ov + i0, sizeof r);
+        transpose(r);
+        for (int l = 0; l < W; ++l)
+            if (l * size + i0 + W <= W * size)
+                memcpy(out + l * size + i0, &r[l], sizeof(vd));
+            else
+                for (npy_intp k = 0; k < count; ++k)
+                    out[l * size + i0 + k] = r[l][k];
+    }
 }
 
 /* N states, W at a time, over the cores for large N: every entry of out (N x size) is written. 0, or -1
@@ -71,8 +135,8 @@ static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy
     npy_intp blocks = (n + W - 1) / W;
     #pragma omp parallel if (n >= 1024)
     {
-        size_t count = 3 * NQ + 2 * NV + NP + size;  /* q, sin q, cos q, u, ud, p, out */
-        vd *qv = aligned_alloc(sizeof(vd), count * sizeof(vd));
+        size_t count = 3 * NQ + 2 * NV + NP + (size > W ? size : W);  /* q, sin q, cos q, u, ud, p, out */
+        vd *qv = aligned_alloc(sizeof(vd), count * sizeof(vd));  /* u, ud absent: zeros throughout */
         vd *sinq = qv + NQ, *cosq = sinq + NQ, *uv = cosq + NQ, *udv = uv + NV, *pv = udv + NV, *ov = pv + NP;
         if (qv != NULL) {
             memset(qv, 0, count * sizeof(vd));  /* the entries f does not write stay 0 */
@@ -88,18 +152,16 @@ static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy
                 continue;
             }
             gather(q + k0 * NQ, NQ, m, NQ, qv);
-            gather(u + k0 * su, su, m, NV, uv);
-            gather(ud + k0 * sud, sud, m, NV, udv);
+            if (su)
+                gather(u + k0 * su, su, m, NV, uv);
+            if (sud)
+                gather(ud + k0 * sud, sud, m, NV, udv);
             for (int t = 0; t < nt; ++t) {
                 sinq[idx[t]] = v_sin(qv[idx[t]]);
                 cosq[idx[t]] = v_cos(qv[idx[t]]);
             }
             f(qv, uv, udv, pv, sinq, cosq, ov);
-            for (int l = 0; l < m; ++l) {
-                double *o = out + (k0 + l) * size;
-                for (npy_intp i = 0; i < size; ++i)
-                    o[i] = ov[i][l];
-            }
+            scatter(ov, size, m, out + k0 * size);
         }
         free(qv);
     }
