@@ -65,6 +65,22 @@ static void shape_text(char *buf, size_t size, PyObject *obj)
         dims_text(buf, size, 0, NULL);
 }
 
+/* Whether the n values of v are finite: x - x is NaN for NaN and infinities (8 sums at once, vectorized) */
+static int all_finite(const double *v, npy_intp n)
+{
+    double nan[8] = {0};
+    npy_intp k = 0;
+    for (; k + 8 <= n; k += 8)
+        for (int j = 0; j < 8; ++j)
+            nan[j] += v[k + j] - v[k + j];
+    for (; k < n; ++k)
+        nan[0] += v[k] - v[k];
+    for (int j = 0; j < 8; ++j)
+        if (nan[j] != 0.0)  /* NaN */
+            return 0;
+    return 1;
+}
+
 /* x as a C-contiguous float64 array of shape batch + (n,), or NULL with a ValueError naming it. */
 static PyArrayObject *input(PyObject *x, const char *name, npy_intp n, int nd, npy_intp batch)
 {
@@ -86,13 +102,11 @@ static PyArrayObject *input(PyObject *x, const char *name, npy_intp n, int nd, n
         Py_DECREF(a);
         return NULL;
     }
-    const double *v = (const double *)PyArray_DATA(a);
-    for (npy_intp k = 0, size = PyArray_SIZE(a); k < size; ++k)
-        if (!isfinite(v[k])) {
-            PyErr_Format(PyExc_ValueError, "%s: contains NaN or infinite values", name);
-            Py_DECREF(a);
-            return NULL;
-        }
+    if (!all_finite((const double *)PyArray_DATA(a), PyArray_SIZE(a))) {
+        PyErr_Format(PyExc_ValueError, "%s: contains NaN or infinite values", name);
+        Py_DECREF(a);
+        return NULL;
+    }
     return a;
 }
 

@@ -68,10 +68,41 @@ PRELUDE = r"""/* W states at a time in vector registers (GCC's vector extension)
 #endif
 typedef double vd __attribute__((vector_size(W * sizeof(double))));
 typedef long long vl __attribute__((vector_size(W * sizeof(double))));
+typedef unsigned long long vu __attribute__((vector_size(W * sizeof(double))));
 #define VD(x) _Generic((x), vd: (x), default: (vd){0} + (x))  /* numbers and doubles to all lanes */
 """ + "\n".join([lanes(f, 1) for f in UNARY] + [lanes(f, 2) for f in BINARY]) + r"""
 
 """ + transpose() + r"""
+
+/* sin and cos of x: x - n π/2 (π/2 in three parts, each product exact for |n| < 2^20) into [-π/4, π/4], fdlibm's
+   polynomials there, n mod 4 choosing and signing them; libm's sin and cos in the lanes past 1e5 */
+static inline void v_sincos(vd x, vd *s, vd *c)
+{
+    const double shift = 0x1.8p52;  /* t's low bits: n mod 2^51 */
+    vd t = x * 6.36619772367581382433e-01 + shift, n = t - shift;
+    vu k = (vu)t, odd = -(k & 1), big = (vu)(VD(0.0) + (vd)((vu)x & 0x7fffffffffffffffULL) > 1e5);
+    vd r = x - n * 1.57079632673412561417e+00;
+    r = r - n * 6.07710050630396597660e-11;
+    r = r - n * 2.02226624871116645580e-21;
+    vd z = r * r;
+    vd sr = r + r * z * (-1.66666666666666324348e-01 + z * (8.33333333332248946124e-03 + z * (
+        -1.98412698298579493134e-04 + z * (2.75573137070700676789e-06 + z * (-2.50507602534068634195e-08
+        + z * 1.58969099521155010221e-10)))));
+    vd cr = 1.0 - 0.5 * z + z * z * (4.16666666666666019037e-02 + z * (-1.38888888888741095749e-03 + z * (
+        2.48015872894767294178e-05 + z * (-2.75573143513906633035e-07 + z * (2.08757232129817482790e-09
+        + z * -1.13596475577881948265e-11)))));
+    *s = (vd)((((vu)sr & ~odd) | ((vu)cr & odd)) ^ ((k & 2) << 62));
+    *c = (vd)((((vu)cr & ~odd) | ((vu)sr & odd)) ^ (((k + 1) & 2) << 62));
+    unsigned long long any = 0;
+    for (int l = 0; l < W; ++l)
+        any |= big[l];
+    if (any)
+        for (int l = 0; l < W; ++l)
+            if (big[l]) {
+                (*s)[l] = sin(x[l]);
+                (*c)[l] = cos(x[l]);
+            }
+}
 
 typedef void (*eomgen_vfn)(const vd *, const vd *, const vd *, const vd *, const vd *, const vd *, vd *);
 
@@ -156,10 +187,8 @@ static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy
                 gather(u + k0 * su, su, m, NV, uv);
             if (sud)
                 gather(ud + k0 * sud, sud, m, NV, udv);
-            for (int t = 0; t < nt; ++t) {
-                sinq[idx[t]] = v_sin(qv[idx[t]]);
-                cosq[idx[t]] = v_cos(qv[idx[t]]);
-            }
+            for (int t = 0; t < nt; ++t)
+                v_sincos(qv[idx[t]], sinq + idx[t], cosq + idx[t]);
             f(qv, uv, udv, pv, sinq, cosq, ov);
             scatter(ov, size, m, out + k0 * size);
         }
