@@ -106,10 +106,10 @@ static inline void v_sincos(vd x, vd *s, vd *c)
 
 typedef void (*eomgen_vfn)(const vd *, const vd *, const vd *, const vd *, const vd *, const vd *, vd *);
 
-/* xv[j][l] = x[l * stride + j], j < n, for the m states from x; the first state in the lanes past m. A full
-   block in W x W tiles (the last one overlapping the one before it, or past n when n < W); a row that would
-   run past the block's end is copied to n */
-static void gather(const double *x, npy_intp stride, int m, int n, vd *xv)
+/* xv[j][l] = x[l * stride + j], j < n, for the m states from x (`size` doubles there); the first state in
+   the lanes past m. A full block in W x W tiles (the last one overlapping the one before it, or past n when
+   n < W); a row that would run past x's end is copied to n */
+static void gather(const double *x, npy_intp stride, npy_intp size, int m, int n, vd *xv)
 {
     if (m < W) {
         for (int j = 0; j < n; ++j)
@@ -121,7 +121,7 @@ static void gather(const double *x, npy_intp stride, int m, int n, vd *xv)
         int j0 = n >= W && j + W > n ? n - W : j, count = n - j0 < W ? n - j0 : W;
         vd r[W] = {0};
         for (int l = 0; l < W; ++l)
-            if (l * stride + j0 + W <= W * stride)
+            if (l * stride + j0 + W <= size)
                 memcpy(&r[l], x + l * stride + j0, sizeof(vd));
             else
                 for (int k = 0; k < count; ++k)
@@ -182,11 +182,11 @@ static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy
                 failed = 1;
                 continue;
             }
-            gather(q + k0 * NQ, NQ, m, NQ, qv);
+            gather(q + k0 * NQ, NQ, (n - k0) * NQ, m, NQ, qv);
             if (su)
-                gather(u + k0 * su, su, m, NV, uv);
+                gather(u + k0 * su, su, (n - k0) * su, m, NV, uv);
             if (sud)
-                gather(ud + k0 * sud, sud, m, NV, udv);
+                gather(ud + k0 * sud, sud, (n - k0) * sud, m, NV, udv);
             for (int t = 0; t < nt; ++t)
                 v_sincos(qv[idx[t]], sinq + idx[t], cosq + idx[t]);
             f(qv, uv, udv, pv, sinq, cosq, ov);
