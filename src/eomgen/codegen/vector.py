@@ -104,6 +104,43 @@ static inline void v_sincos(vd x, vd *s, vd *c)
             }
 }
 
+/* a vector stored past the caches (a non-temporal store: no read of the line first), p aligned to a vector */
+#if W == 8 && defined(__AVX512F__)
+#include <immintrin.h>
+#define STREAM(p, v) _mm512_stream_pd(p, (__m512d)(v))
+#elif W == 4 && defined(__AVX__)
+#include <immintrin.h>
+#define STREAM(p, v) _mm256_stream_pd(p, (__m256d)(v))
+#elif W == 2 && defined(__SSE2__)
+#include <immintrin.h>
+#define STREAM(p, v) _mm_stream_pd(p, (__m128d)(v))
+#else
+#define STREAM(p, v) memcpy(p, &(v), sizeof(vd))
+#endif
+#if defined(__SSE2__)
+#define FENCE() _mm_sfence()
+#else
+#define FENCE() __sync_synchronize()
+#endif
+
+/* out[i] = stage[i], i < count: the whole vectors of out by aligned stores (streamed: by STREAM) */
+static void put(const double *stage, npy_intp count, double *out, int streamed)
+{
+    npy_intp i = 0;
+    for (; i < count && (uintptr_t)(out + i) % sizeof(vd); ++i)
+        out[i] = stage[i];
+    for (; i + W <= count; i += W) {
+        vd v;
+        memcpy(&v, stage + i, sizeof v);
+        if (streamed)
+            STREAM(out + i, v);
+        else
+            *(vd *)(out + i) = v;
+    }
+    for (; i < count; ++i)
+        out[i] = stage[i];
+}
+
 typedef void (*eomgen_vfn)(const vd *, const vd *, const vd *, const vd *, const vd *, const vd *, vd *);
 
 /* xv[j][l] = x[l * stride + j], j < n, for the m states from x (`size` doubles there); the first state in
@@ -156,19 +193,22 @@ static void scatter(const vd *ov, npy_intp size, int m, double *out)
     }
 }
 
+#define STREAMED (16 << 20)  /* bytes of output past which it is streamed (too large for the caches) */
+
 /* N states, W at a time, over the cores for large N: every entry of out (N x size) is written. 0, or -1
    when out of memory */
 static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy_intp n, const double *q,
                         const double *u, npy_intp su, const double *ud, npy_intp sud, const double *p,
                         double *out)
 {
-    int failed = 0;
+    int failed = 0, streamed = n * size * sizeof(double) > STREAMED;
     npy_intp blocks = (n + W - 1) / W;
     #pragma omp parallel if (n >= 1024)
     {
-        size_t count = 3 * NQ + 2 * NV + NP + (size > W ? size : W);  /* q, sin q, cos q, u, ud, p, out */
+        size_t count = 3 * NQ + 2 * NV + NP + (size > W ? size : W) + size;  /* q, sin q, cos q, u, ud, p, out, stage */
         vd *qv = aligned_alloc(sizeof(vd), count * sizeof(vd));  /* u, ud absent: zeros throughout */
         vd *sinq = qv + NQ, *cosq = sinq + NQ, *uv = cosq + NQ, *udv = uv + NV, *pv = udv + NV, *ov = pv + NP;
+        double *stage = (double *)(ov + (size > W ? size : W));
         if (qv != NULL) {
             memset(qv, 0, count * sizeof(vd));  /* the entries f does not write stay 0 */
             for (int j = 0; j < NP; ++j)
@@ -190,9 +230,11 @@ static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy
             for (int t = 0; t < nt; ++t)
                 v_sincos(qv[idx[t]], sinq + idx[t], cosq + idx[t]);
             f(qv, uv, udv, pv, sinq, cosq, ov);
-            scatter(ov, size, m, out + k0 * size);
+            scatter(ov, size, m, stage);  /* aligned, then out (aligned or not) by aligned stores */
+            put(stage, m * size, out + k0 * size, streamed);
         }
         free(qv);
+        FENCE();
     }
     return failed ? -1 : 0;
 }
