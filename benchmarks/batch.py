@@ -9,6 +9,7 @@ runs in its own process (its own eomgen), the two alternating --rounds times; ea
 --repeat calls over the rounds. Prints a table (and the compiler, flags, CPU, load) and writes JSON.
 
 Run: python benchmarks/batch.py [names ...] [--states 100000] [--before 4d071dc] [--out ...]"""
+
 from __future__ import annotations
 
 import argparse
@@ -53,8 +54,15 @@ def measure(name: str, states: int, megabytes: float, repeat: int) -> dict:
     fc = eg.codegen(eg.derive(system, method="recursive"), backend="c")
     n = min(states, int(megabytes * 2**20 / (8 * system.nv**2)))
     q, u, _ = eg.random_states(system, n, np.random.default_rng(0))
-    row = {"robot": name, "nq": system.nq, "nv": system.nv, "states": n, "ops_M": fc.ops["M"],
-           "ops_nle": fc.ops.get("nle"), "flags": " ".join(extension.FLAGS + list(extension.ATTEMPTS[0]))}
+    row = {
+        "robot": name,
+        "nq": system.nq,
+        "nv": system.nv,
+        "states": n,
+        "ops_M": fc.ops["M"],
+        "ops_nle": fc.ops.get("nle"),
+        "flags": " ".join(extension.FLAGS + list(extension.ATTEMPTS[0])),
+    }
     for key, call in (("M", lambda **o: fc.M(q, **o)), ("nle", lambda **o: fc.nle(q, u, **o))):
         result = call()
         row[f"{key}_us"] = best(call, repeat) / n * 1e6
@@ -75,7 +83,9 @@ def worker(src: str, args) -> None:
 
 def checkout(ref: str, folder: Path) -> str:
     """src/ of git revision `ref`, extracted into `folder`."""
-    archive = subprocess.run(["git", "archive", ref, "src"], cwd=ROOT, capture_output=True, check=True).stdout
+    archive = subprocess.run(
+        ["git", "archive", ref, "src"], cwd=ROOT, capture_output=True, check=True
+    ).stdout
     with tarfile.open(fileobj=BytesIO(archive)) as tar:
         tar.extractall(folder)
     return str(folder / "src")
@@ -83,8 +93,20 @@ def checkout(ref: str, folder: Path) -> str:
 
 def run(src: str, name: str, args) -> dict:
     env = {**os.environ, "OMP_NUM_THREADS": "1", "EOMGEN_PROGRESS": "0", "PYTHONPATH": src}
-    command = [sys.executable, __file__, "--worker", name, "--src", src, "--states", str(args.states),
-               "--megabytes", str(args.megabytes), "--repeat", str(args.repeat)]
+    command = [
+        sys.executable,
+        __file__,
+        "--worker",
+        name,
+        "--src",
+        src,
+        "--states",
+        str(args.states),
+        "--megabytes",
+        str(args.megabytes),
+        "--repeat",
+        str(args.repeat),
+    ]
     done = subprocess.run(command, env=env, capture_output=True, text=True)
     if done.returncode:
         raise SystemExit(f"{name} ({src}) failed:\n{done.stderr[-3000:]}")
@@ -101,8 +123,14 @@ def merged(rows: list[dict]) -> dict:
 
 
 def machine() -> dict:
-    cpu = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
-                if line.startswith("model name")), platform.processor())
+    cpu = next(
+        (
+            line.split(":", 1)[1].strip()
+            for line in Path("/proc/cpuinfo").read_text().splitlines()
+            if line.startswith("model name")
+        ),
+        platform.processor(),
+    )
     cc = subprocess.run([os.environ.get("CC", "cc"), "--version"], capture_output=True, text=True).stdout
     return {"cpu": cpu, "compiler": cc.splitlines()[0] if cc else "?", "load_start": os.getloadavg()}
 
@@ -122,10 +150,14 @@ def main() -> None:
     if args.worker:
         return worker(args.src, args)
     meta = machine()
-    print(f"CPU: {meta['cpu']}; compiler: {meta['compiler']}; one core (OMP_NUM_THREADS=1); "
-          f"load {meta['load_start']}")
-    print(f"{'robot':8s} {'N':>7s} {'':4s} {'ops':>6s} {'before':>8s} {'after':>8s} {'out=':>8s} {'copy':>8s} "
-          f"{'speed-up':>8s} {'out=/copy':>9s}   (µs per state)")
+    print(
+        f"CPU: {meta['cpu']}; compiler: {meta['compiler']}; one core (OMP_NUM_THREADS=1); "
+        f"load {meta['load_start']}"
+    )
+    print(
+        f"{'robot':8s} {'N':>7s} {'':4s} {'ops':>6s} {'before':>8s} {'after':>8s} {'out=':>8s} {'copy':>8s}"
+        f" {'speed-up':>8s} {'out=/copy':>9s}   (µs per state)"
+    )
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         old, new = checkout(args.before, Path(tmp)), str(ROOT / "src")
@@ -136,18 +168,31 @@ def main() -> None:
                     sides[side].append(run(src, name, args))
             before, after = merged(sides["before"]), merged(sides["after"])
             for key in ("M", "nle"):
-                row = {"robot": name, "quantity": key, "states": after["states"], "ops": after[f"ops_{key}"],
-                       "before_ops": before[f"ops_{key}"], "before_us": before[f"{key}_us"],
-                       "after_us": after[f"{key}_us"], "after_out_us": after[f"{key}_out_us"],
-                       "copy_us": after[f"{key}_copy_us"], "flags": after["flags"],
-                       "before_flags": before["flags"]}
+                row = {
+                    "robot": name,
+                    "quantity": key,
+                    "states": after["states"],
+                    "ops": after[f"ops_{key}"],
+                    "before_ops": before[f"ops_{key}"],
+                    "before_us": before[f"{key}_us"],
+                    "after_us": after[f"{key}_us"],
+                    "after_out_us": after[f"{key}_out_us"],
+                    "copy_us": after[f"{key}_copy_us"],
+                    "flags": after["flags"],
+                    "before_flags": before["flags"],
+                }
                 rows.append(row)
-                print(f"{name:8s} {row['states']:7d} {key:4s} {row['ops']:6d} {row['before_us']:8.4f} "
-                      f"{row['after_us']:8.4f} {row['after_out_us']:8.4f} {row['copy_us']:8.4f} "
-                      f"{row['before_us'] / row['after_out_us']:7.2f}x "
-                      f"{row['after_out_us'] / row['copy_us']:8.2f}x", flush=True)
+                print(
+                    f"{name:8s} {row['states']:7d} {key:4s} {row['ops']:6d} {row['before_us']:8.4f} "
+                    f"{row['after_us']:8.4f} {row['after_out_us']:8.4f} {row['copy_us']:8.4f} "
+                    f"{row['before_us'] / row['after_out_us']:7.2f}x "
+                    f"{row['after_out_us'] / row['copy_us']:8.2f}x",
+                    flush=True,
+                )
     meta["load_end"] = os.getloadavg()
-    print(f"flags: {rows[0]['flags']} (before: {rows[0]['before_flags']}); load at the end {meta['load_end']}")
+    print(
+        f"flags: {rows[0]['flags']} (before: {rows[0]['before_flags']}); load at the end {meta['load_end']}"
+    )
     results_io.write(args.out, "batch", rows, before=args.before, **meta)
 
 

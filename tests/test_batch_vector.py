@@ -26,7 +26,7 @@ def ur5(tmp_path_factory):
 
 
 def pinocchio(system, q, u) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(M, nle, g) per state by crba (upper triangle mirrored), nonLinearEffects, computeGeneralizedGravity."""
+    """(M, nle, g) per state: crba (upper triangle mirrored), nonLinearEffects, computeGeneralizedGravity."""
     model = system.pinocchio_model
     data, qp = model.createData(), pinocchio_configuration(system, q)
     M, nle, g = [], [], []
@@ -50,16 +50,22 @@ def test_batches_equal_pinocchio_and_the_per_call_path(name, ur5, tmp_path, monk
     for n in SIZES:
         batch = {"M": fc.M(q[:n]), "nle": fc.nle(q[:n], u[:n]), "g": fc.g(q[:n]), "b": fc.b(q[:n], u[:n])}
         for key, want in (("M", M), ("nle", nle), ("g", g), ("b", nle - g)):
-            np.testing.assert_allclose(batch[key], want[:n], rtol=0, atol=1e-10, err_msg=f"{key}, {n} states")
+            np.testing.assert_allclose(
+                batch[key], want[:n], rtol=0, atol=1e-10, err_msg=f"{key}, {n} states"
+            )
         for k in range(min(n, 20)):
             for key, one in (("M", fc.M(q[k])), ("nle", fc.nle(q[k], u[k])), ("g", fc.g(q[k]))):
-                np.testing.assert_allclose(batch[key][k], one, rtol=1e-12, atol=1e-12 * np.abs(one).max(),
-                                           err_msg=f"{key}, state {k} of {n}")
+                np.testing.assert_allclose(
+                    batch[key][k],
+                    one,
+                    rtol=1e-12,
+                    atol=1e-12 * np.abs(one).max(),
+                    err_msg=f"{key}, state {k} of {n}",
+                )
 
 
 @settings(max_examples=25, deadline=None)
-@given(n=st.integers(1, 40), seed=st.integers(0, 2**32 - 1),
-       scale=st.sampled_from([1.0, 1e3, 3e5]))
+@given(n=st.integers(1, 40), seed=st.integers(0, 2**32 - 1), scale=st.sampled_from([1.0, 1e3, 3e5]))
 def test_any_batch_equals_the_states_one_by_one(ur5, n, seed, scale):
     """Any batch size and angles (past 1e5 sin and cos are libm's, lane by lane): the batch = each state
     alone to 1e-12 relative."""
@@ -67,7 +73,10 @@ def test_any_batch_equals_the_states_one_by_one(ur5, n, seed, scale):
     rng = np.random.default_rng(seed)
     q, u = rng.uniform(-scale, scale, (n, 6)), rng.uniform(-3, 3, (n, 6))
     q[rng.random(n) < 0.3] *= 1e-3  # small and large angles in one block
-    for batch, one in ((fc.M(q), [fc.M(x) for x in q]), (fc.nle(q, u), [fc.nle(x, v) for x, v in zip(q, u)])):
+    for batch, one in (
+        (fc.M(q), [fc.M(x) for x in q]),
+        (fc.nle(q, u), [fc.nle(x, v) for x, v in zip(q, u)]),
+    ):
         one = np.array(one)
         np.testing.assert_allclose(batch, one, rtol=1e-12, atol=1e-12 * np.abs(one).max())
 
@@ -79,9 +88,13 @@ def test_out_is_written_and_returned(ur5):
     q, u, _ = eg.random_states(system, 2 * 9 + 1, np.random.default_rng(32))
     for f in (fc, fn):
         for n in (1, 9, 19):
-            calls = {"M": lambda **o: f.M(q[:n], **o), "b": lambda **o: f.b(q[:n], u[:n], **o),
-                     "g": lambda **o: f.g(q[:n], **o), "nle": lambda **o: f.nle(q[:n], u[:n], **o),
-                     "call": lambda **o: f.call("M", q[:n], **o)}
+            calls = {
+                "M": lambda **o: f.M(q[:n], **o),
+                "b": lambda **o: f.b(q[:n], u[:n], **o),
+                "g": lambda **o: f.g(q[:n], **o),
+                "nle": lambda **o: f.nle(q[:n], u[:n], **o),
+                "call": lambda **o: f.call("M", q[:n], **o),
+            }
             for key, call in calls.items():
                 want = call()
                 out = np.full(want.shape, np.nan)
@@ -95,14 +108,22 @@ def test_out_is_written_and_returned(ur5):
 def test_bad_out_is_refused(ur5):
     system, fc, fn = ur5
     q, u, _ = eg.random_states(system, 5, np.random.default_rng(33))
-    bad = [np.zeros((5, 6)), np.zeros((4, 6, 6)), np.zeros((5, 6, 6), dtype=np.float32),
-           np.zeros((5, 6, 6), order="F"), np.zeros((5, 6, 12))[..., ::2], [[0.0] * 6] * 5]
+    bad = [
+        np.zeros((5, 6)),
+        np.zeros((4, 6, 6)),
+        np.zeros((5, 6, 6), dtype=np.float32),
+        np.zeros((5, 6, 6), order="F"),
+        np.zeros((5, 6, 12))[..., ::2],
+        [[0.0] * 6] * 5,
+    ]
     readonly = np.zeros((5, 6, 6))
     readonly.flags.writeable = False
     for f in (fc, fn):
         for out in bad + [readonly]:
-            with pytest.raises(ValueError, match=r"out: expected a writeable C-contiguous float64 array of "
-                                                 r"shape \(5, 6, 6\), got"):
+            with pytest.raises(
+                ValueError,
+                match=r"out: expected a writeable C-contiguous float64 array of " r"shape \(5, 6, 6\), got",
+            ):
                 f.M(q, out=out)
         with pytest.raises(ValueError, match=r"out: .* of shape \(5, 6\), got .*\(5, 6, 6\)"):
             f.nle(q, u, out=np.zeros((5, 6, 6)))
@@ -119,14 +140,26 @@ def test_lane_functions_and_long_functions_in_parts(tmp_path, monkeypatch):
     monkeypatch.setattr(numpy_backend, "SEGMENT", 1)
     system = eg.System(gravity=(0, 0, -9.81))
     a = system.add_body("a", joint=eg.Revolute("x", axis=(0, 0, 1)), mass=1, com=(0.5, 0, 0))
-    b = system.add_body("b", parent=a, joint=eg.Prismatic("y", axis=(1, 0, 0)), mass=2,
-                        placement=eg.Placement(translation=(1, 0, 0)))
+    b = system.add_body(
+        "b",
+        parent=a,
+        joint=eg.Prismatic("y", axis=(1, 0, 0)),
+        mass=2,
+        placement=eg.Placement(translation=(1, 0, 0)),
+    )
     x, y = system.q
     v = system.u[0]
-    system.add_torque(a, (0, 0, sp.tan(x / 3) + sp.exp(-y**2) * v + sp.log(2 + sp.sin(x)) + sp.atan2(y, x + 3)))
-    system.add_torque(b, (sp.asin(x / 3) * sp.acos(y / 3) + sp.sinh(x / 2) - sp.cosh(y) * sp.tanh(v),
-                          sp.Abs(x - y) + sp.Min(x, y, sp.Rational(3, 10)) * sp.Max(x, -y, v),
-                          (2 + sp.cos(x))**1.5 + sp.atan(v) + sp.sqrt(3 + y)))
+    system.add_torque(
+        a, (0, 0, sp.tan(x / 3) + sp.exp(-(y**2)) * v + sp.log(2 + sp.sin(x)) + sp.atan2(y, x + 3))
+    )
+    system.add_torque(
+        b,
+        (
+            sp.asin(x / 3) * sp.acos(y / 3) + sp.sinh(x / 2) - sp.cosh(y) * sp.tanh(v),
+            sp.Abs(x - y) + sp.Min(x, y, sp.Rational(3, 10)) * sp.Max(x, -y, v),
+            (2 + sp.cos(x)) ** 1.5 + sp.atan(v) + sp.sqrt(3 + y),
+        ),
+    )
     eom = eg.derive(system)
     fc, fn = eg.codegen(eom, backend="c"), eg.codegen(eom)
     rng = np.random.default_rng(34)

@@ -80,13 +80,16 @@ def written(result: np.ndarray, out: np.ndarray | None) -> np.ndarray:
         return result
     if not isinstance(out, np.ndarray):
         got = type(out).__name__
-    elif out.dtype != np.float64 or out.shape != result.shape or not out.flags.c_contiguous or not out.flags.writeable:
-        kind = " non-contiguous" if not out.flags.c_contiguous else " read-only" if not out.flags.writeable else ""
+    elif out.dtype != np.float64 or out.shape != result.shape or not out.flags.c_contiguous \
+            or not out.flags.writeable:
+        flags = out.flags
+        kind = " non-contiguous" if not flags.c_contiguous else " read-only" if not flags.writeable else ""
         got = f"a{kind} {out.dtype} array of shape {out.shape}"
     else:
         out[...] = result
         return out
-    raise ModelError(f"out: expected a writeable C-contiguous float64 array of shape {result.shape}, got {got}")
+    raise ModelError(f"out: expected a writeable C-contiguous float64 array of shape {result.shape}, "
+                     f"got {got}")
 
 
 def eager(eom: EquationsOfMotion) -> list[str]:

@@ -89,8 +89,8 @@ def extension_functions(written: list, nq: int, nv: int, n_params: int,
     """The written functions [(key, C source of e<i>, shape, operations, trig indices)], with the C of
     w<i> for W states at once by key (`vector.vector_source`), compiled into one extension module."""
     lanes = lanes or {}
-    module = build([(source, lanes.get(key), shape, trig) for key, source, shape, _, trig in written], nq, nv,
-                   n_params)
+    functions = [(source, lanes.get(key), shape, trig) for key, source, shape, _, trig in written]
+    module = build(functions, nq, nv, n_params)
     return {key: Generated(source, shape, ops, getattr(module, f"m{i}"), getattr(module, f"v{i}"))
             for i, (key, source, shape, ops, _) in enumerate(written)}
 

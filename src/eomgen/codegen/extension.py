@@ -135,8 +135,8 @@ static void trig_block(const double *q, int m, const int *idx, int nt, double *s
     }
 }
 
-static void one_state(eomgen_fn f, const int *idx, int nt, const double *q, const double *u, const double *ud,
-                      const double *p, double *out)
+static void one_state(eomgen_fn f, const int *idx, int nt, const double *q, const double *u,
+                      const double *ud, const double *p, double *out)
 {
     double sinq[NQ], cosq[NQ];
     for (int t = 0; t < nt; ++t) {
@@ -148,8 +148,8 @@ static void one_state(eomgen_fn f, const int *idx, int nt, const double *q, cons
 
 /* N states one at a time (out zeroed), in blocks of BLOCK over the cores for large N. 0, or -1 when out of
    memory */
-static int batch(eomgen_fn f, const int *idx, int nt, npy_intp size, npy_intp n, const double *q, const double *u,
-                 npy_intp su, const double *ud, npy_intp sud, const double *p, double *out)
+static int batch(eomgen_fn f, const int *idx, int nt, npy_intp size, npy_intp n, const double *q,
+                 const double *u, npy_intp su, const double *ud, npy_intp sud, const double *p, double *out)
 {
     int failed = 0;
     npy_intp blocks = (n + BLOCK - 1) / BLOCK;
@@ -193,14 +193,15 @@ static PyArrayObject *output(PyObject *out, int nd, const npy_intp *shape)
     }
     dims_text(want, sizeof want, nd, shape);
     if (!PyArray_Check(out)) {
-        PyErr_Format(PyExc_ValueError, "out: expected a writeable C-contiguous float64 array of shape %s, got %s",
-                     want, Py_TYPE(out)->tp_name);
+        PyErr_Format(PyExc_ValueError, "out: expected a writeable C-contiguous float64 array of shape %s, "
+                     "got %s", want, Py_TYPE(out)->tp_name);
         return NULL;
     }
     shape_text(got, sizeof got, out);
-    PyErr_Format(PyExc_ValueError, "out: expected a writeable C-contiguous float64 array of shape %s, got a%s %s "
-                 "array of shape %s", want, !PyArray_IS_C_CONTIGUOUS(a) ? " non-contiguous" : !PyArray_ISWRITEABLE(a)
-                 ? " read-only" : "", PyArray_DESCR(a)->typeobj->tp_name, got);
+    const char *kind = !PyArray_IS_C_CONTIGUOUS(a) ? " non-contiguous"
+                       : !PyArray_ISWRITEABLE(a) ? " read-only" : "";
+    PyErr_Format(PyExc_ValueError, "out: expected a writeable C-contiguous float64 array of shape %s, "
+                 "got a%s %s array of shape %s", want, kind, PyArray_DESCR(a)->typeobj->tp_name, got);
     return NULL;
 }
 
@@ -208,8 +209,8 @@ static PyObject *evaluate(eomgen_fn f, eomgen_vfn v, const int *idx, int nt, npy
                           int vector, PyObject *const *args, Py_ssize_t nargs)
 {
     if (nargs < 1 || nargs > 5)
-        return PyErr_Format(PyExc_TypeError, "expected (q, u=None, ud=None, p=None, out=None), got %zd arguments",
-                            nargs);
+        return PyErr_Format(PyExc_TypeError, "expected (q, u=None, ud=None, p=None, out=None), got %zd "
+                            "arguments", nargs);
     PyArrayObject *a[4] = {NULL, NULL, NULL, NULL}, *result = NULL;
     static const char *names[4] = {"q", "u", "ud", "p"};
     a[0] = input(args[0], "q", NQ, -1, 0);
@@ -330,8 +331,8 @@ def module_source(name: str, functions: list[tuple[str, str | None, tuple, list[
         parts.append(f"static const int t{i}[] = {{{', '.join(map(str, trig or [0]))}}};\n")
         for kind, column in (("m", 0), ("v", 1)):
             parts.append(f"static PyObject *{kind}{i}(PyObject *self, PyObject *const *args, Py_ssize_t nargs)\n"
-                         f"{{ return evaluate(e{i}, {f'w{i}' if lanes else 'NULL'}, t{i}, {len(trig)}, {rows}, "
-                         f"{cols}, {column}, args, nargs); }}\n")
+                         f"{{ return evaluate(e{i}, {f'w{i}' if lanes else 'NULL'}, t{i}, {len(trig)}, "
+                         f"{rows}, {cols}, {column}, args, nargs); }}\n")
             table.append(f'    {{"{kind}{i}", (PyCFunction)(void (*)(void)){kind}{i}, METH_FASTCALL, NULL}},')
     parts.append("static PyMethodDef methods[] = {\n" + "\n".join(table) + "\n    {NULL, NULL, 0, NULL}\n};\n"
                  f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, methods}};\n'

@@ -6,6 +6,7 @@ functions run lane by lane, sin and cos in libmvec's vector versions where the l
 Functions with branches (Piecewise, sign, Heaviside) are not printed: they keep the scalar batch loop.
 
 The module is built for the machine it runs on (-march=native): its cache key holds `machine()`."""
+
 from __future__ import annotations
 
 import platform
@@ -23,11 +24,18 @@ BINARY = ("atan2", "pow", "fmin", "fmax")
 BRANCHES = (sp.Piecewise, sp.sign, sp.Heaviside)  # printed by the scalar syntax only
 
 _ARGS = "const vd *q, const vd *u, const vd *ud, const vd *p, const vd *sinq, const vd *cosq"
-C_VECTOR = replace(C_TRIG, header="static void {name}(" + _ARGS + ", vd *out)\n{{",
-                   input="    const vd {var} = {arg}[{k}];", assign="    const vd {var} = VD({expr});",
-                   out="    out[{ij}] = VD({expr});", power="v_pow({b}, {e})", sqrt="v_sqrt({x})",
-                   functions={k: f"v_{f}" for k, f in C_FUNCTIONS.items()}, type="vd",
-                   segment="static EOMGEN_NOINLINE void {name}(" + _ARGS + ", vd *out, vd *X)\n{{")
+C_VECTOR = replace(
+    C_TRIG,
+    header="static void {name}(" + _ARGS + ", vd *out)\n{{",
+    input="    const vd {var} = {arg}[{k}];",
+    assign="    const vd {var} = VD({expr});",
+    out="    out[{ij}] = VD({expr});",
+    power="v_pow({b}, {e})",
+    sqrt="v_sqrt({x})",
+    functions={k: f"v_{f}" for k, f in C_FUNCTIONS.items()},
+    type="vd",
+    segment="static EOMGEN_NOINLINE void {name}(" + _ARGS + ", vd *out, vd *X)\n{{",
+)
 
 
 def lanes(name: str, arity: int) -> str:
@@ -35,16 +43,24 @@ def lanes(name: str, arity: int) -> str:
     args = ", ".join(f"vd x{k}" for k in range(arity))
     each = ", ".join(f"x{k}[l]" for k in range(arity))
     given = ", ".join(f"x{k}" for k in range(arity))
-    return (f"static inline vd v_{name}_({args})\n{{ vd r; for (int l = 0; l < W; ++l) r[l] = {name}({each}); "
-            f"return r; }}\n#define v_{name}({given}) v_{name}_({', '.join(f'VD(x{k})' for k in range(arity))})")
+    return (
+        f"static inline vd v_{name}_({args})\n{{ vd r; for (int l = 0; l < W; ++l) r[l] = {name}({each}); "
+        f"return r; }}\n#define v_{name}({given}) v_{name}_({', '.join(f'VD(x{k})' for k in range(arity))})"
+    )
 
 
 def transpose() -> str:
     """C of transpose(r): the W x W matrix of rows r[0..W-1] transposed in registers, for each W, by
     swapping the off-diagonal blocks of size h = W/2, ..., 1 (two shuffles per pair of rows)."""
-    lines = ["#ifdef __clang__", "#define SHUFFLE(a, b, ...) __builtin_shufflevector(a, b, __VA_ARGS__)",
-             "#else", "#define SHUFFLE(a, b, ...) __builtin_shuffle(a, b, (vl){__VA_ARGS__})", "#endif",
-             "static inline void transpose(vd *r)", "{"]
+    lines = [
+        "#ifdef __clang__",
+        "#define SHUFFLE(a, b, ...) __builtin_shufflevector(a, b, __VA_ARGS__)",
+        "#else",
+        "#define SHUFFLE(a, b, ...) __builtin_shuffle(a, b, (vl){__VA_ARGS__})",
+        "#endif",
+        "static inline void transpose(vd *r)",
+        "{",
+    ]
     for w in (8, 4, 2):
         lines.append(f"#{'if' if w == 8 else 'elif'} W == {w}")
         h = w // 2
@@ -52,13 +68,17 @@ def transpose() -> str:
             for i in (i for i in range(w) if not i & h):
                 low = [k if not k & h else w + k - h for k in range(w)]
                 high = [k + h if not k & h else w + k for k in range(w)]
-                lines.append(f"    {{ vd a = r[{i}], b = r[{i + h}]; r[{i}] = SHUFFLE(a, b, {', '.join(map(str, low))}); "
-                             f"r[{i + h}] = SHUFFLE(a, b, {', '.join(map(str, high))}); }}")
+                lines.append(
+                    f"    {{ vd a = r[{i}], b = r[{i + h}]; r[{i}] = SHUFFLE(a, b,"
+                    f" {', '.join(map(str, low))}); r[{i + h}] = SHUFFLE(a, b,"
+                    f" {', '.join(map(str, high))}); }}"
+                )
             h //= 2
     return "\n".join(lines + ["#endif", "}"])
 
 
-PRELUDE = r"""/* W states at a time in vector registers (GCC's vector extension), structure of arrays */
+PRELUDE = (
+    r"""/* W states at a time in vector registers (GCC's vector extension), structure of arrays */
 #if defined(__AVX512F__)
 #define W 8
 #elif defined(__AVX__)
@@ -70,12 +90,16 @@ typedef double vd __attribute__((vector_size(W * sizeof(double))));
 typedef long long vl __attribute__((vector_size(W * sizeof(double))));
 typedef unsigned long long vu __attribute__((vector_size(W * sizeof(double))));
 #define VD(x) _Generic((x), vd: (x), default: (vd){0} + (x))  /* numbers and doubles to all lanes */
-""" + "\n".join([lanes(f, 1) for f in UNARY] + [lanes(f, 2) for f in BINARY]) + r"""
+"""
+    + "\n".join([lanes(f, 1) for f in UNARY] + [lanes(f, 2) for f in BINARY])
+    + r"""
 
-""" + transpose() + r"""
+"""
+    + transpose()
+    + r"""
 
-/* sin and cos of x: x - n π/2 (π/2 in three parts, each product exact for |n| < 2^20) into [-π/4, π/4], fdlibm's
-   polynomials there, n mod 4 choosing and signing them; libm's sin and cos in the lanes past 1e5 */
+/* sin and cos of x: x - n π/2 (π/2 in three parts, each product exact for |n| < 2^20) into [-π/4, π/4],
+   fdlibm's polynomials there, n mod 4 choosing and signing them; libm's sin and cos in the lanes past 1e5 */
 static inline void v_sincos(vd x, vd *s, vd *c)
 {
     const double shift = 0x1.8p52;  /* t's low bits: n mod 2^51 */
@@ -104,7 +128,7 @@ static inline void v_sincos(vd x, vd *s, vd *c)
             }
 }
 
-/* a vector stored past the caches (a non-temporal store: no read of the line first), p aligned to a vector */
+/* v stored past the caches (non-temporal: the line is not read first); p aligned to a vector */
 #if W == 8 && defined(__AVX512F__)
 #include <immintrin.h>
 #define STREAM(p, v) _mm512_stream_pd(p, (__m512d)(v))
@@ -170,7 +194,8 @@ static void gather(const double *x, npy_intp stride, npy_intp size, int m, int n
 }
 
 /* out[l * size + i] = ov[i][l], i < size, for the m states of a block; a full one in W x W tiles as
-   `gather` (ov holds at least W entries: a row past size lands in the next state's entries, written after) */
+   `gather` (ov holds at least W entries: a row past size lands in the next state's entries, written
+   after) */
 static void scatter(const vd *ov, npy_intp size, int m, double *out)
 {
     if (m < W) {
@@ -205,9 +230,11 @@ static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy
     npy_intp blocks = (n + W - 1) / W;
     #pragma omp parallel if (n >= 1024)
     {
-        size_t count = 3 * NQ + 2 * NV + NP + (size > W ? size : W) + size;  /* q, sin q, cos q, u, ud, p, out, stage */
+        /* q, sin q, cos q, u, ud, p, out (at least W entries), the output's stage */
+        size_t count = 3 * NQ + 2 * NV + NP + (size > W ? size : W) + size;
         vd *qv = aligned_alloc(sizeof(vd), count * sizeof(vd));  /* u, ud absent: zeros throughout */
-        vd *sinq = qv + NQ, *cosq = sinq + NQ, *uv = cosq + NQ, *udv = uv + NV, *pv = udv + NV, *ov = pv + NP;
+        vd *sinq = qv + NQ, *cosq = sinq + NQ, *uv = cosq + NQ, *udv = uv + NV, *pv = udv + NV;
+        vd *ov = pv + NP;
         double *stage = (double *)(ov + (size > W ? size : W));
         if (qv != NULL) {
             memset(qv, 0, count * sizeof(vd));  /* the entries f does not write stay 0 */
@@ -239,6 +266,7 @@ static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy
     return failed ? -1 : 0;
 }
 """
+)
 
 
 def vector_source(writer: FunctionWriter, name: str, expr: sp.Basic, symmetric: bool) -> str | None:
