@@ -4,6 +4,7 @@ source and a header for a controller."""
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -14,12 +15,12 @@ from ..errors import ModelError
 from ..progress import progress
 from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer, written
 from .c_derivatives import CompiledDerivatives, plain_function, plain_parts
-from .extension import build, compiler, python_headers
+from .extension import build, compiled, compiler, python_headers
 from .kinematic_functions import placement
 from .module import outputs
 from .numpy_backend import C, C_TRIG
 from .parameters import Parameters
-from .vector import C_VECTOR, vector_source
+from .vector import C_VECTOR, TYPES, lanes_source, vector_source
 
 
 class CompiledEoM(CompiledDerivatives, NumericEoM):
@@ -45,13 +46,16 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
         return self.functions.get(key)
 
     def _build(self, keys: list[str]) -> None:
-        written, lanes = [], {}
+        written, exprs = [], []
         for i, key in enumerate(progress(keys, "printing C", unit="function")):
             build, symmetric = self._pending.pop(key)
-            expr = build()
-            source, shape, ops = self._c.source(f"e{i}", expr, symmetric)
+            exprs.append((build(), symmetric))
+            source, shape, ops = self._c.source(f"e{i}", *exprs[-1])
             written.append((key, source, shape, ops, self._c.trig_indices))
-            lanes[key] = vector_source(self._lanes, f"w{i}", expr, symmetric)
+
+        def lanes() -> list[str | None]:  # on the first batch
+            return [vector_source(self._lanes, f"w{i}", expr, symmetric)
+                    for i, (expr, symmetric) in enumerate(progress(exprs, "printing vector C", unit="function"))]
         self.functions.update(extension_functions(written, self.nq, self.nv, len(self.params), lanes))
 
     def _pvec(self, params, key) -> list[float] | np.ndarray | None:
@@ -85,14 +89,20 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
 
 
 def extension_functions(written: list, nq: int, nv: int, n_params: int,
-                        lanes: dict[str, str | None] | None = None) -> dict[str, Generated]:
-    """The written functions [(key, C source of e<i>, shape, operations, trig indices)], with the C of
-    w<i> for W states at once by key (`vector.vector_source`), compiled into one extension module."""
-    lanes = lanes or {}
-    functions = [(source, lanes.get(key), shape, trig) for key, source, shape, _, trig in written]
-    module = build(functions, nq, nv, n_params)
+                        lanes: Callable[[], list[str | None]] | None = None) -> dict[str, Generated]:
+    """The written functions [(key, C source of e<i>, shape, operations, trig indices)], compiled into
+    one extension module; with `lanes`, the C of their vector functions w<i> (`vector.vector_source`),
+    compiled into a second module on the first batch."""
+    module = build([(source, shape, trig) for _, source, shape, _, trig in written], nq, nv, n_params)
+    if lanes is not None:
+        module._hook(lambda: module._attach(lanes_module(lanes(), nq, nv, n_params).lanes))
     return {key: Generated(source, shape, ops, getattr(module, f"m{i}"), getattr(module, f"v{i}"))
             for i, (key, source, shape, ops, _) in enumerate(written)}
+
+
+def lanes_module(sources: list[str | None], nq: int, nv: int, n_params: int):
+    """The module of the vector functions `sources` (`vector.lanes_source`)."""
+    return compiled((TYPES, sources, nq, nv, n_params), lambda name: lanes_source(name, sources))
 
 
 def comment(text: str) -> str:

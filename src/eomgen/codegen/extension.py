@@ -27,6 +27,7 @@ import sys
 import sysconfig
 import tempfile
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -205,8 +206,27 @@ static PyArrayObject *output(PyObject *out, int nd, const npy_intp *shape)
     return NULL;
 }
 
-static PyObject *evaluate(eomgen_fn f, eomgen_vfn v, const int *idx, int nt, npy_intp rows, npy_intp cols,
-                          int vector, PyObject *const *args, Py_ssize_t nargs)
+static eomgen_vfn lanes[NF];  /* the vector functions, once their module is attached */
+static PyObject *hook;  /* called on the first batch: builds and attaches them */
+
+/* lanes[] from the capsule of the module of vector functions (`vector.lanes_source`) */
+static PyObject *attach(PyObject *self, PyObject *capsule)
+{
+    eomgen_vfn *table = PyCapsule_GetPointer(capsule, "eomgen.lanes");
+    if (table == NULL)
+        return NULL;
+    memcpy(lanes, table, sizeof lanes);
+    Py_RETURN_NONE;
+}
+
+static PyObject *set_hook(PyObject *self, PyObject *callable)
+{
+    Py_XSETREF(hook, Py_NewRef(callable));
+    Py_RETURN_NONE;
+}
+
+static PyObject *evaluate(eomgen_fn f, int i, const int *idx, int nt, npy_intp rows, npy_intp cols, int vector,
+                          PyObject *const *args, Py_ssize_t nargs)
 {
     if (nargs < 1 || nargs > 5)
         return PyErr_Format(PyExc_TypeError, "expected (q, u=None, ud=None, p=None, out=None), got %zd "
@@ -228,15 +248,24 @@ static PyObject *evaluate(eomgen_fn f, eomgen_vfn v, const int *idx, int nt, npy
         PyErr_SetString(PyExc_TypeError, "p: the parameter values are required");
         goto done;
     }
-    int lanes = nd == 2 && v != NULL;  /* W states at a time, every entry written */
+    if (nd == 2 && hook != NULL) {  /* the first batch */
+        PyObject *h = hook, *done_hook;
+        hook = NULL;
+        done_hook = PyObject_CallNoArgs(h);
+        Py_DECREF(h);
+        if (done_hook == NULL)
+            goto done;
+        Py_DECREF(done_hook);
+    }
+    eomgen_vfn v = nd == 2 ? lanes[i] : NULL;  /* W states at a time, every entry written */
     npy_intp dims[3] = {n, rows, cols}, *shape = nd == 2 ? dims : dims + 1;
     if (nargs == 5 && args[4] != Py_None) {
         result = output(args[4], nd + 1 - vector, shape);
-        if (result != NULL && !lanes)
+        if (result != NULL && !v)
             memset(PyArray_DATA(result), 0, PyArray_NBYTES(result));
     } else
-        result = (PyArrayObject *)(lanes ? PyArray_EMPTY(nd + 1 - vector, shape, NPY_DOUBLE, 0)
-                                         : PyArray_ZEROS(nd + 1 - vector, shape, NPY_DOUBLE, 0));
+        result = (PyArrayObject *)(v ? PyArray_EMPTY(nd + 1 - vector, shape, NPY_DOUBLE, 0)
+                                     : PyArray_ZEROS(nd + 1 - vector, shape, NPY_DOUBLE, 0));
     if (result == NULL)
         goto done;
     {
@@ -250,8 +279,8 @@ static PyObject *evaluate(eomgen_fn f, eomgen_vfn v, const int *idx, int nt, npy
             one_state(f, idx, nt, q, u, ud, p, out);
         else {
             Py_BEGIN_ALLOW_THREADS
-            failed = lanes ? batch_vector(v, idx, nt, rows * cols, n, q, u, su, ud, sud, p, out)
-                           : batch(f, idx, nt, rows * cols, n, q, u, su, ud, sud, p, out);
+            failed = v ? batch_vector(v, idx, nt, rows * cols, n, q, u, su, ud, sud, p, out)
+                       : batch(f, idx, nt, rows * cols, n, q, u, su, ud, sud, p, out);
             Py_END_ALLOW_THREADS
         }
         if (failed) {
@@ -320,19 +349,19 @@ def cache_dir() -> Path:
     return folder
 
 
-def module_source(name: str, functions: list[tuple[str, str | None, tuple, list[int]]], nq: int, nv: int,
-                  n_params: int) -> str:
-    """The extension module `name`: the functions (C text of `e<i>`, of `w<i>` for W states at once or None,
-    output shape, the k of the sin(q[k]) and cos(q[k]) it reads) and their wrappers."""
-    parts = [f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n", PRELUDE, vector.PRELUDE, EVALUATE]
-    table = []
-    for i, (source, lanes, (rows, cols), trig) in enumerate(functions):
-        parts += [source, lanes or ""]  # static functions (`numpy_backend.C_TRIG`, `vector.C_VECTOR`)
+def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int) -> str:
+    """The extension module `name`: the functions (C text of `e<i>`, output shape, the k of the sin(q[k])
+    and cos(q[k]) it reads) and their wrappers; `_attach` and `_hook` take the vector functions
+    (`vector`)."""
+    parts = [f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n#define NF {len(functions)}\n", PRELUDE,
+             vector.TYPES, vector.DRIVER, EVALUATE]
+    table = [f'    {{"_attach", attach, METH_O, NULL}},', f'    {{"_hook", set_hook, METH_O, NULL}},']
+    for i, (source, (rows, cols), trig) in enumerate(functions):
+        parts.append(source)  # static functions (`numpy_backend.C_TRIG`)
         parts.append(f"static const int t{i}[] = {{{', '.join(map(str, trig or [0]))}}};\n")
         for kind, column in (("m", 0), ("v", 1)):
             parts.append(f"static PyObject *{kind}{i}(PyObject *self, PyObject *const *args, Py_ssize_t nargs)\n"
-                         f"{{ return evaluate(e{i}, {f'w{i}' if lanes else 'NULL'}, t{i}, {len(trig)}, "
-                         f"{rows}, {cols}, {column}, args, nargs); }}\n")
+                         f"{{ return evaluate(e{i}, {i}, t{i}, {len(trig)}, {rows}, {cols}, {column}, args, nargs); }}\n")
             table.append(f'    {{"{kind}{i}", (PyCFunction)(void (*)(void)){kind}{i}, METH_FASTCALL, NULL}},')
     parts.append("static PyMethodDef methods[] = {\n" + "\n".join(table) + "\n    {NULL, NULL, 0, NULL}\n};\n"
                  f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, methods}};\n'
@@ -385,24 +414,30 @@ def load(name: str, target: Path):
     return module
 
 
-def build(functions: list[tuple[str, str | None, tuple, list[int]]], nq: int, nv: int, n_params: int):
-    """Compile (once per distinct source, prelude included, compiler, flags, machine, Python and NumPy) and
-    import the extension module; a cached module that is not intact or does not load is rebuilt once."""
-    key = repr((PRELUDE, vector.PRELUDE, EVALUATE, functions, nq, nv, n_params, compiler(), FLAGS, ATTEMPTS,
-                vector.machine(), sys.version, np.__version__)).encode()
+def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int):
+    """The extension module of `functions` (see `module_source`), compiled once (`compiled`)."""
+    return compiled((PRELUDE, vector.TYPES, vector.DRIVER, EVALUATE, functions, nq, nv, n_params),
+                    lambda name: module_source(name, functions, nq, nv, n_params))
+
+
+def compiled(content, source: Callable[[str], str]):
+    """The module of C text `source(name)` for `content` (all it is made of), compiled (once per distinct
+    content, compiler, flags, machine, Python and NumPy) and imported; a cached module that is not intact
+    or does not load is rebuilt once."""
+    key = repr((content, compiler(), FLAGS, ATTEMPTS, vector.machine(), sys.version, np.__version__)).encode()
     name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
     target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
     if name in sys.modules:
         return sys.modules[name]
-    source = module_source(name, functions, nq, nv, n_params)
+    text = source(name)
     fresh = not intact(target)
     if fresh:
-        compile_module(source, target)
+        compile_module(text, target)
     while True:
         try:
             return load(name, target)
         except ImportError as error:
             if fresh:
                 raise ModelError(f"the compiled module {target} does not load: {error}") from None
-        compile_module(source, target)
+        compile_module(text, target)
         fresh = True

@@ -5,7 +5,10 @@ long functions split in parts as in C. Numbers and parameters broadcast to all l
 functions run lane by lane, sin and cos in libmvec's vector versions where the loop vectorizes.
 Functions with branches (Piecewise, sign, Heaviside) are not printed: they keep the scalar batch loop.
 
-The module is built for the machine it runs on (-march=native): its cache key holds `machine()`."""
+The vector functions are a module of their own (`lanes_source`), printed and compiled on the first batch
+(twice the C of the per-state functions to compile: a build that never batches does not pay for it),
+which hands the table of its functions to the module of the per-state functions (`DRIVER` there calls
+them). Both are built for the machine they run on (-march=native): the cache key holds `machine()`."""
 
 from __future__ import annotations
 
@@ -77,7 +80,7 @@ def transpose() -> str:
     return "\n".join(lines + ["#endif", "}"])
 
 
-PRELUDE = (
+TYPES = (
     r"""/* W states at a time in vector registers (GCC's vector extension), structure of arrays */
 #if defined(__AVX512F__)
 #define W 8
@@ -94,8 +97,13 @@ typedef unsigned long long vu __attribute__((vector_size(W * sizeof(double))));
     + "\n".join([lanes(f, 1) for f in UNARY] + [lanes(f, 2) for f in BINARY])
     + r"""
 
+typedef void (*eomgen_vfn)(const vd *, const vd *, const vd *, const vd *, const vd *, const vd *, vd *);
 """
-    + transpose()
+)
+
+# the batched loop of the module of the per-state functions, which calls the vector functions
+DRIVER = (
+    transpose()
     + r"""
 
 /* sin and cos of x: x - n π/2 (π/2 in three parts, each product exact for |n| < 2^20) into [-π/4, π/4],
@@ -165,7 +173,6 @@ static void put(const double *stage, npy_intp count, double *out, int streamed)
         out[i] = stage[i];
 }
 
-typedef void (*eomgen_vfn)(const vd *, const vd *, const vd *, const vd *, const vd *, const vd *, vd *);
 
 /* xv[j][l] = x[l * stride + j], j < n, for the m states from x (`size` doubles there); the first state in
    the lanes past m. A full block in W x W tiles (the last one overlapping the one before it, or past n when
@@ -267,6 +274,23 @@ static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy
 }
 """
 )
+
+
+def lanes_source(name: str, sources: list[str | None]) -> str:
+    """The extension module `name` of the vector functions `w<i>` (None: none for function i), whose
+    attribute `lanes` holds their table for the module of the per-state functions (`extension`)."""
+    table = ", ".join(f"w{i}" if source else "NULL" for i, source in enumerate(sources))
+    return "\n".join([
+        "#define PY_SSIZE_T_CLEAN\n#include <Python.h>\n#include <math.h>\n#include <string.h>",
+        TYPES,
+        *(source for source in sources if source),
+        f"static eomgen_vfn table[] = {{{table}}};",
+        f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, NULL}};',
+        f"PyMODINIT_FUNC PyInit_{name}(void)\n{{\n    PyObject *m = PyModule_Create(&module);",
+        '    PyObject *c = m ? PyCapsule_New(table, "eomgen.lanes", NULL) : NULL;',
+        '    if (m != NULL && (c == NULL || PyModule_AddObject(m, "lanes", c) < 0)) {',
+        "        Py_XDECREF(c);\n        Py_CLEAR(m);\n    }\n    return m;\n}\n",
+    ])
 
 
 def vector_source(writer: FunctionWriter, name: str, expr: sp.Basic, symmetric: bool) -> str | None:
