@@ -4,7 +4,8 @@ time to just write the same output bytes, in one run.
 Per robot: µs per state of M(q) and nle(q, u) over N states (OMP_NUM_THREADS=1), by the code of a git
 revision (--before, the scalar batch loop: a fresh output per call) and by this tree (a fresh output,
 and out= reusing one), beside a plain copy of the output's bytes into a reused buffer of the same size
-(NumPy's copyto: the bound). N is --states, fewer where M's output would pass --megabytes. Each side
+(NumPy's copyto: the bound); and µs per call of one state, before and after. N is --states, fewer
+where M's output would pass --megabytes. Each side
 runs in its own process (its own eomgen), the two alternating --rounds times; each time is the best of
 --repeat calls over the rounds. Prints a table (and the compiler, flags, CPU, load) and writes JSON.
 
@@ -21,6 +22,7 @@ import sys
 import tarfile
 import tempfile
 import time
+import timeit
 import warnings
 from io import BytesIO
 from pathlib import Path
@@ -63,7 +65,12 @@ def measure(name: str, states: int, megabytes: float, repeat: int) -> dict:
         "ops_nle": fc.ops.get("nle"),
         "flags": " ".join(extension.FLAGS + list(extension.ATTEMPTS[0])),
     }
-    for key, call in (("M", lambda **o: fc.M(q, **o)), ("nle", lambda **o: fc.nle(q, u, **o))):
+    calls = {
+        "M": (lambda **o: fc.M(q, **o), lambda: fc.M(q[0])),
+        "nle": (lambda **o: fc.nle(q, u, **o), lambda: fc.nle(q[0], u[0])),
+    }
+    for key, (call, one) in calls.items():
+        row[f"{key}_call_us"] = min(timeit.repeat(one, number=2000, repeat=repeat)) / 2000 * 1e6
         result = call()
         row[f"{key}_us"] = best(call, repeat) / n * 1e6
         try:
@@ -156,7 +163,7 @@ def main() -> None:
     )
     print(
         f"{'robot':8s} {'N':>7s} {'':4s} {'ops':>6s} {'before':>8s} {'after':>8s} {'out=':>8s} {'copy':>8s}"
-        f" {'speed-up':>8s} {'out=/copy':>9s}   (µs per state)"
+        f" {'speed-up':>8s} {'out=/copy':>9s} {'1 state before':>14s} {'after':>6s}   (µs per state)"
     )
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -178,6 +185,8 @@ def main() -> None:
                     "after_us": after[f"{key}_us"],
                     "after_out_us": after[f"{key}_out_us"],
                     "copy_us": after[f"{key}_copy_us"],
+                    "before_call_us": before[f"{key}_call_us"],
+                    "after_call_us": after[f"{key}_call_us"],
                     "flags": after["flags"],
                     "before_flags": before["flags"],
                 }
@@ -186,7 +195,8 @@ def main() -> None:
                     f"{name:8s} {row['states']:7d} {key:4s} {row['ops']:6d} {row['before_us']:8.4f} "
                     f"{row['after_us']:8.4f} {row['after_out_us']:8.4f} {row['copy_us']:8.4f} "
                     f"{row['before_us'] / row['after_out_us']:7.2f}x "
-                    f"{row['after_out_us'] / row['copy_us']:8.2f}x",
+                    f"{row['after_out_us'] / row['copy_us']:8.2f}x {row['before_call_us']:14.3f} "
+                    f"{row['after_call_us']:6.3f}",
                     flush=True,
                 )
     meta["load_end"] = os.getloadavg()

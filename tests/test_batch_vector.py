@@ -197,8 +197,14 @@ def test_vector_functions_are_built_on_the_first_batch_for_this_machine(tmp_path
     monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
     system = eg.System(gravity=(0, -9.81, 0))  # a model of this test only: no module of it loaded yet
     a = system.add_body("a", joint=eg.Revolute("x", axis=(0, 0, 1)), mass=1.2345, com=(0.321, 0, 0))
-    system.add_body("b", parent=a, joint=eg.Revolute("y", axis=(0, 0, 1)), mass=0.5432, com=(0.123, 0, 0),
-                    placement=eg.Placement(translation=(0.9, 0, 0)))
+    system.add_body(
+        "b",
+        parent=a,
+        joint=eg.Revolute("y", axis=(0, 0, 1)),
+        mass=0.5432,
+        com=(0.123, 0, 0),
+        placement=eg.Placement(translation=(0.9, 0, 0)),
+    )
     eom = eg.derive(system, method="recursive")
     modules = lambda: len(list(tmp_path.glob("eomgen_*.so")))  # noqa: E731
     f = eg.codegen(eom, backend="c")
@@ -213,8 +219,8 @@ def test_vector_functions_are_built_on_the_first_batch_for_this_machine(tmp_path
 
 
 def test_inverse_dynamics_derivatives_in_batches(ur5):
-    """∂τ/∂q, ∂τ/∂u of 17 states at once (vector registers) = Pinocchio's computeRNEADerivatives per
-    state (1e-9) and = each state alone (1e-12 relative)."""
+    """∂τ/∂q, ∂τ/∂u of 17 states at once (vector registers) = Pinocchio's computeRNEADerivatives
+    per state (1e-9) and = each state alone (1e-12 relative)."""
     system, fc, _ = ur5
     q, u, ud = eg.random_states(system, 17, np.random.default_rng(35))
     dq, du = fc.inverse_dynamics_derivatives(q, u, ud)
@@ -222,6 +228,8 @@ def test_inverse_dynamics_derivatives_in_batches(ur5):
     data = model.createData()
     for k in range(17):
         want = pin.computeRNEADerivatives(model, data, q[k], u[k], ud[k])[:2]
-        for ours, theirs, one in zip((dq[k], du[k]), want, fc.inverse_dynamics_derivatives(q[k], u[k], ud[k])):
+        for ours, theirs, one in zip(
+            (dq[k], du[k]), want, fc.inverse_dynamics_derivatives(q[k], u[k], ud[k])
+        ):
             np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-9)
             np.testing.assert_allclose(ours, one, rtol=1e-12, atol=1e-12 * np.abs(one).max())

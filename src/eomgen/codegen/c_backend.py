@@ -54,8 +54,8 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
             written.append((key, source, shape, ops, self._c.trig_indices))
 
         def lanes() -> list[str | None]:  # on the first batch
-            return [vector_source(self._lanes, f"w{i}", expr, symmetric)
-                    for i, (expr, symmetric) in enumerate(progress(exprs, "printing vector C", unit="function"))]
+            printing = enumerate(progress(exprs, "printing vector C", unit="function"))
+            return [vector_source(self._lanes, f"w{i}", expr, sym) for i, (expr, sym) in printing]
         self.functions.update(extension_functions(written, self.nq, self.nv, len(self.params), lanes))
 
     def _pvec(self, params, key) -> list[float] | np.ndarray | None:

@@ -225,8 +225,8 @@ static PyObject *set_hook(PyObject *self, PyObject *callable)
     Py_RETURN_NONE;
 }
 
-static PyObject *evaluate(eomgen_fn f, int i, const int *idx, int nt, npy_intp rows, npy_intp cols, int vector,
-                          PyObject *const *args, Py_ssize_t nargs)
+static PyObject *evaluate(eomgen_fn f, int i, const int *idx, int nt, npy_intp rows, npy_intp cols,
+                          int vector, PyObject *const *args, Py_ssize_t nargs)
 {
     if (nargs < 1 || nargs > 5)
         return PyErr_Format(PyExc_TypeError, "expected (q, u=None, ud=None, p=None, out=None), got %zd "
@@ -353,15 +353,16 @@ def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: 
     """The extension module `name`: the functions (C text of `e<i>`, output shape, the k of the sin(q[k])
     and cos(q[k]) it reads) and their wrappers; `_attach` and `_hook` take the vector functions
     (`vector`)."""
-    parts = [f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n#define NF {len(functions)}\n", PRELUDE,
-             vector.TYPES, vector.DRIVER, EVALUATE]
+    sizes = f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n#define NF {len(functions)}\n"
+    parts = [sizes, PRELUDE, vector.TYPES, vector.DRIVER, EVALUATE]
     table = [f'    {{"_attach", attach, METH_O, NULL}},', f'    {{"_hook", set_hook, METH_O, NULL}},']
     for i, (source, (rows, cols), trig) in enumerate(functions):
         parts.append(source)  # static functions (`numpy_backend.C_TRIG`)
         parts.append(f"static const int t{i}[] = {{{', '.join(map(str, trig or [0]))}}};\n")
         for kind, column in (("m", 0), ("v", 1)):
             parts.append(f"static PyObject *{kind}{i}(PyObject *self, PyObject *const *args, Py_ssize_t nargs)\n"
-                         f"{{ return evaluate(e{i}, {i}, t{i}, {len(trig)}, {rows}, {cols}, {column}, args, nargs); }}\n")
+                         f"{{ return evaluate(e{i}, {i}, t{i}, {len(trig)}, {rows}, {cols}, {column}, args, "
+                         "nargs); }\n")
             table.append(f'    {{"{kind}{i}", (PyCFunction)(void (*)(void)){kind}{i}, METH_FASTCALL, NULL}},')
     parts.append("static PyMethodDef methods[] = {\n" + "\n".join(table) + "\n    {NULL, NULL, 0, NULL}\n};\n"
                  f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, methods}};\n'
@@ -424,7 +425,8 @@ def compiled(content, source: Callable[[str], str]):
     """The module of C text `source(name)` for `content` (all it is made of), compiled (once per distinct
     content, compiler, flags, machine, Python and NumPy) and imported; a cached module that is not intact
     or does not load is rebuilt once."""
-    key = repr((content, compiler(), FLAGS, ATTEMPTS, vector.machine(), sys.version, np.__version__)).encode()
+    machine = (compiler(), FLAGS, ATTEMPTS, vector.machine(), sys.version, np.__version__)
+    key = repr((content, *machine)).encode()
     name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
     target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
     if name in sys.modules:

@@ -102,9 +102,7 @@ typedef void (*eomgen_vfn)(const vd *, const vd *, const vd *, const vd *, const
 )
 
 # the batched loop of the module of the per-state functions, which calls the vector functions
-DRIVER = (
-    transpose()
-    + r"""
+DRIVER = transpose() + r"""
 
 /* sin and cos of x: x - n π/2 (π/2 in three parts, each product exact for |n| < 2^20) into [-π/4, π/4],
    fdlibm's polynomials there, n mod 4 choosing and signing them; libm's sin and cos in the lanes past 1e5 */
@@ -273,24 +271,25 @@ static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy
     return failed ? -1 : 0;
 }
 """
-)
 
 
 def lanes_source(name: str, sources: list[str | None]) -> str:
     """The extension module `name` of the vector functions `w<i>` (None: none for function i), whose
     attribute `lanes` holds their table for the module of the per-state functions (`extension`)."""
     table = ", ".join(f"w{i}" if source else "NULL" for i, source in enumerate(sources))
-    return "\n".join([
-        "#define PY_SSIZE_T_CLEAN\n#include <Python.h>\n#include <math.h>\n#include <string.h>",
-        TYPES,
-        *(source for source in sources if source),
-        f"static eomgen_vfn table[] = {{{table}}};",
-        f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, NULL}};',
-        f"PyMODINIT_FUNC PyInit_{name}(void)\n{{\n    PyObject *m = PyModule_Create(&module);",
-        '    PyObject *c = m ? PyCapsule_New(table, "eomgen.lanes", NULL) : NULL;',
-        '    if (m != NULL && (c == NULL || PyModule_AddObject(m, "lanes", c) < 0)) {',
-        "        Py_XDECREF(c);\n        Py_CLEAR(m);\n    }\n    return m;\n}\n",
-    ])
+    return "\n".join(
+        [
+            "#define PY_SSIZE_T_CLEAN\n#include <Python.h>\n#include <math.h>\n#include <string.h>",
+            TYPES,
+            *(source for source in sources if source),
+            f"static eomgen_vfn table[] = {{{table}}};",
+            f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, NULL}};',
+            f"PyMODINIT_FUNC PyInit_{name}(void)\n{{\n    PyObject *m = PyModule_Create(&module);",
+            '    PyObject *c = m ? PyCapsule_New(table, "eomgen.lanes", NULL) : NULL;',
+            '    if (m != NULL && (c == NULL || PyModule_AddObject(m, "lanes", c) < 0)) {',
+            "        Py_XDECREF(c);\n        Py_CLEAR(m);\n    }\n    return m;\n}\n",
+        ]
+    )
 
 
 def vector_source(writer: FunctionWriter, name: str, expr: sp.Basic, symmetric: bool) -> str | None:
