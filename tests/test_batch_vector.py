@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 import eomgen as eg
 from eomgen.codegen.vector import branches
 from eomgen.model.urdf import pinocchio_configuration
+from models import cart_pendulum
 
 SIZES = [1, 3, 5, 7, 9, 17, 1000]  # W - 1 and W + 1 for W = 2, 4, 8; a partial last block
 
@@ -233,3 +234,23 @@ def test_inverse_dynamics_derivatives_in_batches(ur5):
         ):
             np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-9)
             np.testing.assert_allclose(ours, one, rtol=1e-12, atol=1e-12 * np.abs(one).max())
+
+
+def test_vector_functions_that_do_not_compile_leave_the_scalar_loop(tmp_path, monkeypatch):
+    """A compiler that refuses the vector module: a warning, and batches one state at a time (= NumPy)."""
+    from eomgen.codegen import c_backend
+
+    def refused(*args):
+        raise eg.ModelError("the C compiler failed: vector types")
+
+    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
+    monkeypatch.setattr(c_backend, "lanes_module", refused)
+    system, _ = cart_pendulum()
+    eom = eg.derive(system)
+    fc, fn = eg.codegen(eom, backend="c"), eg.codegen(eom)
+    params = {"m_c": 1.5, "m_p": 0.25, "l": 0.6, "g": 9.81}
+    q, u, _ = eg.random_states(system, 11, np.random.default_rng(36))
+    with pytest.warns(UserWarning, match="batches run one state at a time: the C compiler failed"):
+        M = fc.M(q, params)
+    np.testing.assert_allclose(M, fn.M(q, params), rtol=1e-13, atol=1e-13)
+    np.testing.assert_allclose(fc.nle(q, u, params), fn.nle(q, u, params), rtol=1e-13, atol=1e-13)

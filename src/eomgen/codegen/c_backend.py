@@ -4,6 +4,7 @@ source and a header for a controller."""
 from __future__ import annotations
 
 import re
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 
@@ -94,8 +95,15 @@ def extension_functions(written: list, nq: int, nv: int, n_params: int,
     one extension module; with `lanes`, the C of their vector functions w<i> (`vector.vector_source`),
     compiled into a second module on the first batch."""
     module = build([(source, shape, trig) for _, source, shape, _, trig in written], nq, nv, n_params)
+
+    def attach() -> None:  # on the first batch
+        try:
+            module._attach(lanes_module(lanes(), nq, nv, n_params).lanes)
+        except ModelError as error:  # the compiler refuses vector types: one state at a time
+            warnings.warn(f"batches run one state at a time: {error}", stacklevel=3)
+
     if lanes is not None:
-        module._hook(lambda: module._attach(lanes_module(lanes(), nq, nv, n_params).lanes))
+        module._hook(attach)
     return {key: Generated(source, shape, ops, getattr(module, f"m{i}"), getattr(module, f"v{i}"))
             for i, (key, source, shape, ops, _) in enumerate(written)}
 
