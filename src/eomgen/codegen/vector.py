@@ -105,12 +105,13 @@ typedef void (*eomgen_vfn)(const vd *, const vd *, const vd *, const vd *, const
 DRIVER = transpose() + r"""
 
 /* sin and cos of x: x - n π/2 (π/2 in three parts, each product exact for |n| < 2^20) into [-π/4, π/4],
-   fdlibm's polynomials there, n mod 4 choosing and signing them; libm's sin and cos in the lanes past 1e5 */
+   fdlibm's polynomials there, n mod 4 choosing and signing them (for |x| up to BIG) */
+#define BIG 1e5
 static inline void v_sincos(vd x, vd *s, vd *c)
 {
     const double shift = 0x1.8p52;  /* t's low bits: n mod 2^51 */
     vd t = x * 6.36619772367581382433e-01 + shift, n = t - shift;
-    vu k = (vu)t, odd = -(k & 1), big = (vu)(VD(0.0) + (vd)((vu)x & 0x7fffffffffffffffULL) > 1e5);
+    vu k = (vu)t, odd = -(k & 1);
     vd r = x - n * 1.57079632673412561417e+00;
     r = r - n * 6.07710050630396597660e-11;
     r = r - n * 2.02226624871116645580e-21;
@@ -123,14 +124,24 @@ static inline void v_sincos(vd x, vd *s, vd *c)
         + z * -1.13596475577881948265e-11)))));
     *s = (vd)((((vu)sr & ~odd) | ((vu)cr & odd)) ^ ((k & 2) << 62));
     *c = (vd)((((vu)cr & ~odd) | ((vu)sr & odd)) ^ (((k + 1) & 2) << 62));
-    unsigned long long any = 0;
+}
+
+/* sinq[j], cosq[j] for the nt indices j = idx[t] of the angles qv; libm's in the lanes past BIG */
+static void trig_lanes(const vd *qv, const int *idx, int nt, vd *sinq, vd *cosq)
+{
+    vl big = {0};
+    for (int t = 0; t < nt; ++t) {
+        v_sincos(qv[idx[t]], sinq + idx[t], cosq + idx[t]);
+        big |= (vd)((vu)qv[idx[t]] & 0x7fffffffffffffffULL) > BIG;
+    }
+    long long any = 0;
     for (int l = 0; l < W; ++l)
         any |= big[l];
-    if (any)
+    for (int t = 0; any && t < nt; ++t)
         for (int l = 0; l < W; ++l)
-            if (big[l]) {
-                (*s)[l] = sin(x[l]);
-                (*c)[l] = cos(x[l]);
+            if (fabs(qv[idx[t]][l]) > BIG) {
+                sinq[idx[t]][l] = sin(qv[idx[t]][l]);
+                cosq[idx[t]][l] = cos(qv[idx[t]][l]);
             }
 }
 
@@ -259,8 +270,7 @@ static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy
                 gather(u + k0 * su, su, (n - k0) * su, m, NV, uv);
             if (sud)
                 gather(ud + k0 * sud, sud, (n - k0) * sud, m, NV, udv);
-            for (int t = 0; t < nt; ++t)
-                v_sincos(qv[idx[t]], sinq + idx[t], cosq + idx[t]);
+            trig_lanes(qv, idx, nt, sinq, cosq);
             f(qv, uv, udv, pv, sinq, cosq, ov);
             scatter(ov, size, m, stage);  /* aligned, then out (aligned or not) by aligned stores */
             put(stage, m * size, out + k0 * size, streamed);
