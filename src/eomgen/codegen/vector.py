@@ -1,9 +1,11 @@
 """Batches in vector registers: each generated function printed a second time with GCC's vector types
 (`vd`, W doubles: 8 with AVX-512, 4 with AVX, else 2), so that one call evaluates W states at once,
 structure of arrays (q[k] holds the k-th coordinate of W states). The same `FunctionWriter` prints it,
-long functions split in parts as in C. Numbers and parameters broadcast to all lanes (`VD`); the other
-functions run lane by lane, sin and cos in libmvec's vector versions where the loop vectorizes.
-Functions with branches (Piecewise, sign, Heaviside) are not printed: they keep the scalar batch loop.
+long functions split in parts as in C. Numbers and parameters broadcast to all lanes (`VD`); sin and
+cos of q in the lanes (`v_sincos`), the other functions lane by lane (sin, cos in libmvec's vector
+versions where that loop vectorizes). Functions with branches (Piecewise, sign, Heaviside) are not
+printed: they keep the scalar batch loop. `DRIVER` transposes the states in W x W tiles (`gather`), the
+outputs back through an aligned stage (`scatter`, `put`; non-temporal stores past 16 MB).
 
 The vector functions are a module of their own (`lanes_source`), printed and compiled on the first batch
 (twice the C of the per-state functions to compile: a build that never batches does not pay for it),
