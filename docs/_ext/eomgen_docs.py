@@ -57,7 +57,7 @@ class Quantities(SphinxDirective):
         for key, what in QUANTITIES.items():
             method = getattr(NumericEoM, key)
             parameters = [p for p in inspect.signature(method).parameters.values() if p.name != "self"]
-            values = {"q": [0.1, 0.2], "u": [0.3, 0.4], "params": {"m": 0.5}}
+            values = {"q": [0.1, 0.2], "u": [0.3, 0.4], "params": {"m": 0.5}, "out": None}
             shape = _shape_text(tuple(getattr(f, key)(*[values[p.name] for p in parameters]).shape))
             call = f"``f.{key}({', '.join(map(str, parameters))})``"
             rows.append(f"   * - {call}\n     - {shape}\n     - {what.replace('*', chr(92) + '*')}")

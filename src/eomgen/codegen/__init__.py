@@ -73,6 +73,25 @@ def writer(eom: EquationsOfMotion, syntax: Syntax = PYTHON) -> FunctionWriter:
                                                "p": Parameters(eom.system.parameters).symbols}, syntax)
 
 
+def written(result: np.ndarray, out: np.ndarray | None) -> np.ndarray:
+    """`result`, copied into `out` when given: a writeable C-contiguous float64 array of its shape (a
+    batch reuses its buffers; the C backend writes there directly), else a ModelError naming out."""
+    if out is None:
+        return result
+    if not isinstance(out, np.ndarray):
+        got = type(out).__name__
+    elif out.dtype != np.float64 or out.shape != result.shape or not out.flags.c_contiguous \
+            or not out.flags.writeable:
+        flags = out.flags
+        kind = " non-contiguous" if not flags.c_contiguous else " read-only" if not flags.writeable else ""
+        got = f"a{kind} {out.dtype} array of shape {out.shape}"
+    else:
+        out[...] = result
+        return out
+    raise ModelError(f"out: expected a writeable C-contiguous float64 array of shape {result.shape}, "
+                     f"got {got}")
+
+
 def eager(eom: EquationsOfMotion) -> list[str]:
     """The functions generated up front: those of M, b, g, b + g and the frames of derive(frames=...)."""
     return [k for k in eom.compact if k in ("M", "b", "g", "nle") or k.split(":")[0] in ("J", "Jdot_u")]
@@ -140,12 +159,13 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
         the motor currents, which are state): their calls take no params."""
         return bind(self, params)
 
-    def call(self, key: str, q, u=None, ud=None, params=None) -> np.ndarray:
-        """Evaluate generated function `key` at q, u, u̇ (one state, or N states along axis 0)."""
+    def call(self, key: str, q, u=None, ud=None, params=None, out=None) -> np.ndarray:
+        """Evaluate generated function `key` at q, u, u̇ (one state, or N states along axis 0); into
+        `out` when given (see `written`)."""
         if key not in self.functions:
             self._on_demand(key)
         f = self.functions[key]
-        return _call(f.function, f.shape, self.nq, self.nv, q, u, ud, self._p(params, key))
+        return written(_call(f.function, f.shape, self.nq, self.nv, q, u, ud, self._p(params, key)), out)
 
     def reference(self, key: str, q, u=None, ud=None, params=None, digits: int = 50) -> np.ndarray:
         """The same generated expressions evaluated in mpmath with `digits` significant digits (one
@@ -166,23 +186,24 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
                               [mpmath.mpf(v) for v in self._p(params, key)], out, m.sin, m.cos, m.sqrt, m)
             return out
 
-    def M(self, q, params=None) -> np.ndarray:
-        """Mass matrix M(q), shape (nv, nv) per state."""
-        return self.call("M", q, params=params)
+    def M(self, q, params=None, out=None) -> np.ndarray:
+        """Mass matrix M(q), shape (nv, nv) per state; into `out` when given (see `written`), as b, g,
+        nle."""
+        return self.call("M", q, params=params, out=out)
 
-    def b(self, q, u, params=None) -> np.ndarray:
+    def b(self, q, u, params=None, out=None) -> np.ndarray:
         """Coriolis and centrifugal terms b(q, u), shape (nv,) per state."""
-        return self.call("b", q, u, params=params)[..., 0]
+        return written(self.call("b", q, u, params=params)[..., 0], out)
 
-    def g(self, q, params=None) -> np.ndarray:
+    def g(self, q, params=None, out=None) -> np.ndarray:
         """Gravity terms g(q) (left-hand side), shape (nv,) per state."""
-        return self.call("g", q, params=params)[..., 0]
+        return written(self.call("g", q, params=params)[..., 0], out)
 
-    def nle(self, q, u, params=None) -> np.ndarray:
+    def nle(self, q, u, params=None, out=None) -> np.ndarray:
         """b + g in one pass (method "recursive"), like Pinocchio's nonLinearEffects."""
         if "nle" not in self.functions:
-            return self.b(q, u, params) + self.g(q, params)
-        return self.call("nle", q, u, params=params)[..., 0]
+            return written(self.b(q, u, params) + self.g(q, params), out)
+        return written(self.call("nle", q, u, params=params)[..., 0], out)
 
     def tau(self, q, u, params=None) -> np.ndarray:
         """Generalized forces of all loads."""

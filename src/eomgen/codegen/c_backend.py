@@ -4,6 +4,8 @@ source and a header for a controller."""
 from __future__ import annotations
 
 import re
+import warnings
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -12,13 +14,14 @@ from .. import __version__
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..progress import progress
-from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer
+from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer, written
 from .c_derivatives import CompiledDerivatives, plain_function, plain_parts
-from .extension import build, compiler, python_headers
+from .extension import build, compiled, compiler, python_headers
 from .kinematic_functions import placement
 from .module import outputs
 from .numpy_backend import C, C_TRIG, VECTOR_TRIG
 from .parameters import Parameters
+from .vector import C_VECTOR, TYPES, lanes_source, vector_source
 
 
 class CompiledEoM(CompiledDerivatives, NumericEoM):
@@ -28,7 +31,7 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
 
     def __init__(self, eom: EquationsOfMotion) -> None:
         compiler(), python_headers()  # a clear error before any work
-        self._c = writer(eom, C_TRIG)
+        self._c, self._lanes = writer(eom, C_TRIG), writer(eom, C_VECTOR)
         self._pending: dict = {}
         self._deferring = True
         super().__init__(eom)  # registers the eager functions, then builds them together
@@ -44,12 +47,17 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
         return self.functions.get(key)
 
     def _build(self, keys: list[str]) -> None:
-        written = []
+        written, exprs = [], []
         for i, key in enumerate(progress(keys, "printing C", unit="function")):
-            expr, symmetric = self._pending.pop(key)
-            source, shape, ops = self._c.source(f"e{i}", expr(), symmetric)
+            build, symmetric = self._pending.pop(key)
+            exprs.append((build(), symmetric))
+            source, shape, ops = self._c.source(f"e{i}", *exprs[-1])
             written.append((key, source, shape, ops, self._c.trig_indices))
-        self.functions.update(extension_functions(written, self.nq, self.nv, len(self.params)))
+
+        def lanes() -> list[str | None]:  # on the first batch
+            printing = enumerate(progress(exprs, "printing vector C", unit="function"))
+            return [vector_source(self._lanes, f"w{i}", expr, sym) for i, (expr, sym) in printing]
+        self.functions.update(extension_functions(written, self.nq, self.nv, len(self.params), lanes))
 
     def _pvec(self, params, key) -> list[float] | np.ndarray | None:
         """p as the extension reads it: the bound values, else those `key` uses (the others 0.0)."""
@@ -62,31 +70,47 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
             self._on_demand(key)
         return self.functions[key]
 
-    def call(self, key, q, u=None, ud=None, params=None) -> np.ndarray:
-        return self._get(key).function(q, u, ud, self._pvec(params, key))
+    def call(self, key, q, u=None, ud=None, params=None, out=None) -> np.ndarray:
+        return self._get(key).function(q, u, ud, self._pvec(params, key), out)
 
     # the common entry points call the compiled function directly (vector outputs as vectors)
-    def M(self, q, params=None) -> np.ndarray:
-        return self._get("M").function(q, None, None, self._pvec(params, "M"))
+    def M(self, q, params=None, out=None) -> np.ndarray:
+        return self._get("M").function(q, None, None, self._pvec(params, "M"), out)
 
-    def b(self, q, u, params=None) -> np.ndarray:
-        return self._get("b").vector(q, u, None, self._pvec(params, "b"))
+    def b(self, q, u, params=None, out=None) -> np.ndarray:
+        return self._get("b").vector(q, u, None, self._pvec(params, "b"), out)
 
-    def g(self, q, params=None) -> np.ndarray:
-        return self._get("g").vector(q, None, None, self._pvec(params, "g"))
+    def g(self, q, params=None, out=None) -> np.ndarray:
+        return self._get("g").vector(q, None, None, self._pvec(params, "g"), out)
 
-    def nle(self, q, u, params=None) -> np.ndarray:
+    def nle(self, q, u, params=None, out=None) -> np.ndarray:
         if "nle" not in self.functions:
-            return self.b(q, u, params) + self.g(q, params)
-        return self.functions["nle"].vector(q, u, None, self._pvec(params, "nle"))
+            return written(self.b(q, u, params) + self.g(q, params), out)
+        return self.functions["nle"].vector(q, u, None, self._pvec(params, "nle"), out)
 
 
-def extension_functions(written: list, nq: int, nv: int, n_params: int) -> dict[str, Generated]:
+def extension_functions(written: list, nq: int, nv: int, n_params: int,
+                        lanes: Callable[[], list[str | None]] | None = None) -> dict[str, Generated]:
     """The written functions [(key, C source of e<i>, shape, operations, trig indices)], compiled into
-    one extension module."""
+    one extension module; with `lanes`, the C of their vector functions w<i> (`vector.vector_source`),
+    compiled into a second module on the first batch."""
     module = build([(source, shape, trig) for _, source, shape, _, trig in written], nq, nv, n_params)
+
+    def attach() -> None:  # on the first batch
+        try:
+            module._attach(lanes_module(lanes(), nq, nv, n_params).lanes)
+        except ModelError as error:  # the compiler refuses vector types: one state at a time
+            warnings.warn(f"batches run one state at a time: {error}", stacklevel=3)
+
+    if lanes is not None:
+        module._hook(attach)
     return {key: Generated(source, shape, ops, getattr(module, f"m{i}"), getattr(module, f"v{i}"))
             for i, (key, source, shape, ops, _) in enumerate(written)}
+
+
+def lanes_module(sources: list[str | None], nq: int, nv: int, n_params: int):
+    """The module of the vector functions `sources` (`vector.lanes_source`)."""
+    return compiled((TYPES, sources, nq, nv, n_params), lambda name: lanes_source(name, sources))
 
 
 def comment(text: str) -> str:

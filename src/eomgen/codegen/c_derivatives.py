@@ -18,6 +18,7 @@ from ..errors import ModelError
 from . import reads
 from .numpy_backend import C, C_TRIG, Syntax
 from .derivative_functions import efforts, forward_dynamics, forward_key, forward_parts, jacobians
+from .vector import vector_source
 
 TEMPLATE = r"""/* A = Lᵀ L in place on A's lower triangle (row-major, @lda@ columns), L lower triangular;
    0 unless A is positive definite */
@@ -150,7 +151,8 @@ def plain_function(eom, name: str, sources: dict[str, str]) -> tuple[str, str] |
 
 class CompiledDerivatives:
     """Mixed into `CompiledEoM`: the Jacobians of the dynamics and (with M, b, g) the forward dynamics'
-    derivatives built in one extension module on first use, the latter one compiled call."""
+    derivatives built in one extension module on first use, the latter one compiled call; batches of the
+    Jacobians in vector registers (`vector`)."""
 
     def _dynamics_jacobian(self, key: str, q, u, ud, params) -> np.ndarray:
         self._build_derivatives()
@@ -194,10 +196,11 @@ class CompiledDerivatives:
         if forward_dynamics(eom):
             keys += ["FD_jacobian"] * bool(eom.load_names) + ["FD_parts"]
             build["FD_parts"] = lambda: forward_parts(eom)
-        written = []
+        written, exprs = [], []
         for i, key in enumerate(keys):
             self._built.setdefault(key, (build[key], False))  # for `reference`
-            source, shape, ops = self._c.source(f"e{i}", build[key]())
+            exprs.append(build[key]())
+            source, shape, ops = self._c.source(f"e{i}", exprs[-1])
             written.append((key, source, shape, ops, self._c.trig_indices))
         if forward_dynamics(eom):
             parts, jacobian = written[-1], written[keys.index(forward_key(eom))]
@@ -206,7 +209,11 @@ class CompiledDerivatives:
                 f"e{len(keys)}", f"e{len(keys) - 1}", f"e{keys.index(forward_key(eom))}", self.nv, C_TRIG
             )
             written.append(("FD_derivatives", source, (self.nv, 3 * self.nv), parts[3] + jacobian[3], trig))
-        functions = extension_functions(written, self.nq, self.nv, len(self.params))
+        def lanes() -> list[str | None]:  # on the first batch; FD_derivatives's loop stays scalar
+            vectors = [vector_source(self._lanes, f"w{i}", expr, False) for i, expr in enumerate(exprs)]
+            return vectors + [None] * (len(written) - len(exprs))
+
+        functions = extension_functions(written, self.nq, self.nv, len(self.params), lanes)
         if forward_dynamics(eom):  # the parameters it reads are those of its parts
             functions["FD_derivatives"] = dataclasses.replace(
                 functions["FD_derivatives"], source=parts[1] + jacobian[1] + source

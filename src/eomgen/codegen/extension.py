@@ -1,10 +1,12 @@
 """Generated C functions as one CPython extension module: compiled with the machine's C compiler,
-cached by a hash of the source (and of the compiler flags, Python and NumPy it was built for), and
-imported. Each function `e<i>` is exposed twice: `m<i>(q, u=None, ud=None, p=None)` returns the
-output matrix (rows, cols), `v<i>` the column as a vector (rows,); q of shape (nq,) is one state,
-(N, nq) is N states evaluated in one C loop with the GIL released, over all cores for large N (OpenMP;
-OMP_NUM_THREADS=1 for one). Inputs are checked in C with the
-messages of the NumPy backend (the argument named, shapes, NaN and infinities).
+cached by a hash of the source (and of the compiler flags, the CPU, Python and NumPy it was built for),
+and imported. Each function `e<i>` is exposed twice: `m<i>(q, u=None, ud=None, p=None, out=None)` returns
+the output matrix (rows, cols), `v<i>` the column as a vector (rows,), written into `out` when given;
+q of shape (nq,) is one state, (N, nq) is N states evaluated in one C loop with the GIL released, over
+all cores for large N (OpenMP; OMP_NUM_THREADS=1 for one), W states at a time in vector registers by
+its vector function `w<i>` where there is one (`vector`: a second module, built by the hook `_hook` on
+the first batch and handed over by `_attach`). Inputs are checked in C with the messages of the NumPy backend (the
+argument named, shapes, NaN and infinities).
 
 The cache, $EOMGEN_CACHE or ~/.cache/eomgen, is created private to the user (mode 0o700). Its modules
 are loaded as code, so a folder that other users could write into is refused (world-writable, or owned
@@ -26,14 +28,16 @@ import sys
 import sysconfig
 import tempfile
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import ModelError
 from ..progress import progress
+from . import vector
 
-FLAGS = ["-O2", "-fno-math-errno", "-ftree-vectorize", "-fPIC", "-shared"]
+FLAGS = ["-O2", "-march=native", "-fno-math-errno", "-ftree-vectorize", "-fPIC", "-shared"]
 # batches over the cores with vector sin and cos; else one core, scalar sin and cos
 ATTEMPTS = (["-fopenmp", "-lmvec", "-lm"], ["-DEOMGEN_NO_MVEC", "-lm"])
 
@@ -43,17 +47,40 @@ PRELUDE = r"""#define PY_SSIZE_T_CLEAN
 #include <numpy/arrayobject.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
+
+static void dims_text(char *buf, size_t size, int nd, const npy_intp *dims)
+{
+    /* "(6,)", "(10, 6)", as Python prints a shape */
+    size_t used = (size_t)snprintf(buf, size, "(");
+    for (int d = 0; d < nd && used < size; ++d)
+        used += (size_t)snprintf(buf + used, size - used, d ? ", %ld" : "%ld", (long)dims[d]);
+    if (used < size)
+        snprintf(buf + used, size - used, nd == 1 ? ",)" : ")");
+}
 
 static void shape_text(char *buf, size_t size, PyObject *obj)
 {
-    /* "(6,)", "(10, 6)", as Python prints a shape */
-    int nd = PyArray_Check(obj) ? PyArray_NDIM((PyArrayObject *)obj) : 0;
-    size_t used = (size_t)snprintf(buf, size, "(");
-    for (int d = 0; d < nd && used < size; ++d)
-        used += (size_t)snprintf(buf + used, size - used, d ? ", %ld" : "%ld",
-                                 (long)PyArray_DIM((PyArrayObject *)obj, d));
-    if (used < size)
-        snprintf(buf + used, size - used, nd == 1 ? ",)" : ")");
+    if (PyArray_Check(obj))
+        dims_text(buf, size, PyArray_NDIM((PyArrayObject *)obj), PyArray_DIMS((PyArrayObject *)obj));
+    else
+        dims_text(buf, size, 0, NULL);
+}
+
+/* Whether the n values of v are finite: x - x is NaN for NaN and infinities (8 sums at once, vectorized) */
+static int all_finite(const double *v, npy_intp n)
+{
+    double nan[8] = {0};
+    npy_intp k = 0;
+    for (; k + 8 <= n; k += 8)
+        for (int j = 0; j < 8; ++j)
+            nan[j] += v[k + j] - v[k + j];
+    for (; k < n; ++k)
+        nan[0] += v[k] - v[k];
+    for (int j = 0; j < 8; ++j)
+        if (nan[j] != 0.0)  /* NaN */
+            return 0;
+    return 1;
 }
 
 /* x as a C-contiguous float64 array of shape batch + (n,), or NULL with a ValueError naming it. */
@@ -77,13 +104,11 @@ static PyArrayObject *input(PyObject *x, const char *name, npy_intp n, int nd, n
         Py_DECREF(a);
         return NULL;
     }
-    const double *v = (const double *)PyArray_DATA(a);
-    for (npy_intp k = 0, size = PyArray_SIZE(a); k < size; ++k)
-        if (!isfinite(v[k])) {
-            PyErr_Format(PyExc_ValueError, "%s: contains NaN or infinite values", name);
-            Py_DECREF(a);
-            return NULL;
-        }
+    if (!all_finite((const double *)PyArray_DATA(a), PyArray_SIZE(a))) {
+        PyErr_Format(PyExc_ValueError, "%s: contains NaN or infinite values", name);
+        Py_DECREF(a);
+        return NULL;
+    }
     return a;
 }
 
@@ -112,13 +137,102 @@ static void trig_block(const double *q, int m, const int *idx, int nt, double *s
     }
 }
 
-static PyObject *evaluate(eomgen_fn f, const int *idx, int nt, npy_intp rows, npy_intp cols, int vector,
-                          PyObject *const *args, Py_ssize_t nargs)
+static void one_state(eomgen_fn f, const int *idx, int nt, const double *q, const double *u,
+                      const double *ud, const double *p, double *out)
 {
-    if (nargs < 1 || nargs > 4)
-        return PyErr_Format(PyExc_TypeError, "expected (q, u=None, ud=None, p=None), got %zd arguments", nargs);
-    PyArrayObject *a[4] = {NULL, NULL, NULL, NULL};
-    PyObject *result = NULL;
+    double sinq[NQ], cosq[NQ];
+    for (int t = 0; t < nt; ++t) {
+        sinq[idx[t]] = sin(q[idx[t]]);
+        cosq[idx[t]] = cos(q[idx[t]]);
+    }
+    f(q, u, ud, p, sinq, cosq, out);
+}
+
+/* N states one at a time (out zeroed), in blocks of BLOCK over the cores for large N. 0, or -1 when out of
+   memory */
+static int batch(eomgen_fn f, const int *idx, int nt, npy_intp size, npy_intp n, const double *q,
+                 const double *u, npy_intp su, const double *ud, npy_intp sud, const double *p, double *out)
+{
+    int failed = 0;
+    npy_intp blocks = (n + BLOCK - 1) / BLOCK;
+    /* blocks of states over the cores (OpenMP, OMP_NUM_THREADS) when the batch is large */
+    #pragma omp parallel if (blocks >= 16)
+    {
+        double *sinq = malloc(2 * sizeof(double) * BLOCK * NQ), *cosq = sinq + BLOCK * NQ;
+        #pragma omp for schedule(static)
+        for (npy_intp b = 0; b < blocks; ++b) {
+            npy_intp k0 = b * BLOCK;
+            int m = n - k0 < BLOCK ? (int)(n - k0) : BLOCK;
+            if (sinq == NULL) {
+                failed = 1;
+                continue;
+            }
+            trig_block(q + k0 * NQ, m, idx, nt, sinq, cosq);
+            for (npy_intp k = k0; k < k0 + m; ++k)
+                f(q + k * NQ, u + k * su, ud + k * sud, p, sinq + (k - k0) * NQ, cosq + (k - k0) * NQ,
+                  out + k * size);
+        }
+        free(sinq);
+    }
+    return failed ? -1 : 0;
+}
+"""
+
+EVALUATE = r"""
+/* out, when given: a writeable C-contiguous float64 array of shape `shape` (a new reference), else NULL
+   with a ValueError naming it */
+static PyArrayObject *output(PyObject *out, int nd, const npy_intp *shape)
+{
+    char want[128], got[128];
+    PyArrayObject *a = (PyArrayObject *)out;
+    int ok = PyArray_Check(out) && PyArray_TYPE(a) == NPY_DOUBLE && PyArray_IS_C_CONTIGUOUS(a)
+             && PyArray_ISWRITEABLE(a) && PyArray_NDIM(a) == nd;
+    for (int d = 0; ok && d < nd; ++d)
+        ok = PyArray_DIM(a, d) == shape[d];
+    if (ok) {
+        Py_INCREF(out);
+        return a;
+    }
+    dims_text(want, sizeof want, nd, shape);
+    if (!PyArray_Check(out)) {
+        PyErr_Format(PyExc_ValueError, "out: expected a writeable C-contiguous float64 array of shape %s, "
+                     "got %s", want, Py_TYPE(out)->tp_name);
+        return NULL;
+    }
+    shape_text(got, sizeof got, out);
+    const char *kind = !PyArray_IS_C_CONTIGUOUS(a) ? " non-contiguous"
+                       : !PyArray_ISWRITEABLE(a) ? " read-only" : "";
+    PyErr_Format(PyExc_ValueError, "out: expected a writeable C-contiguous float64 array of shape %s, "
+                 "got a%s %s array of shape %s", want, kind, PyArray_DESCR(a)->typeobj->tp_name, got);
+    return NULL;
+}
+
+static eomgen_vfn lanes[NF];  /* the vector functions, once their module is attached */
+static PyObject *hook;  /* called on the first batch: builds and attaches them */
+
+/* lanes[] from the capsule of the module of vector functions (`vector.lanes_source`) */
+static PyObject *attach(PyObject *self, PyObject *capsule)
+{
+    eomgen_vfn *table = PyCapsule_GetPointer(capsule, "eomgen.lanes");
+    if (table == NULL)
+        return NULL;
+    memcpy(lanes, table, sizeof lanes);
+    Py_RETURN_NONE;
+}
+
+static PyObject *set_hook(PyObject *self, PyObject *callable)
+{
+    Py_XSETREF(hook, Py_NewRef(callable));
+    Py_RETURN_NONE;
+}
+
+static PyObject *evaluate(eomgen_fn f, int i, const int *idx, int nt, npy_intp rows, npy_intp cols,
+                          int vector, PyObject *const *args, Py_ssize_t nargs)
+{
+    if (nargs < 1 || nargs > 5)
+        return PyErr_Format(PyExc_TypeError, "expected (q, u=None, ud=None, p=None, out=None), got %zd "
+                            "arguments", nargs);
+    PyArrayObject *a[4] = {NULL, NULL, NULL, NULL}, *result = NULL;
     static const char *names[4] = {"q", "u", "ud", "p"};
     a[0] = input(args[0], "q", NQ, -1, 0);
     if (a[0] == NULL)
@@ -135,58 +249,50 @@ static PyObject *evaluate(eomgen_fn f, const int *idx, int nt, npy_intp rows, np
         PyErr_SetString(PyExc_TypeError, "p: the parameter values are required");
         goto done;
     }
-    npy_intp dims[4] = {n, rows, cols, 0};
-    result = PyArray_ZEROS(nd + 1 - vector, nd == 2 ? dims : dims + 1, NPY_DOUBLE, 0);
+    if (nd == 2 && hook != NULL) {  /* the first batch */
+        PyObject *h = hook, *done_hook;
+        hook = NULL;
+        done_hook = PyObject_CallNoArgs(h);
+        Py_DECREF(h);
+        if (done_hook == NULL)
+            goto done;
+        Py_DECREF(done_hook);
+    }
+    eomgen_vfn v = nd == 2 ? lanes[i] : NULL;  /* W states at a time, every entry written */
+    npy_intp dims[3] = {n, rows, cols}, *shape = nd == 2 ? dims : dims + 1;
+    if (nargs == 5 && args[4] != Py_None) {
+        result = output(args[4], nd + 1 - vector, shape);
+        if (result != NULL && !v)
+            memset(PyArray_DATA(result), 0, PyArray_NBYTES(result));
+    } else
+        result = (PyArrayObject *)(v ? PyArray_EMPTY(nd + 1 - vector, shape, NPY_DOUBLE, 0)
+                                     : PyArray_ZEROS(nd + 1 - vector, shape, NPY_DOUBLE, 0));
     if (result == NULL)
         goto done;
     {
         const double *q = PyArray_DATA(a[0]);
         const double *u = a[1] ? PyArray_DATA(a[1]) : ZEROS, *ud = a[2] ? PyArray_DATA(a[2]) : ZEROS;
         const double *p = a[3] ? PyArray_DATA(a[3]) : ZEROS;
-        npy_intp su = a[1] ? NV : 0, sud = a[2] ? NV : 0, size = rows * cols;
-        double *out = PyArray_DATA((PyArrayObject *)result);
-        if (nd == 1) {
-            double sinq[NQ], cosq[NQ];
-            for (int t = 0; t < nt; ++t) {
-                sinq[idx[t]] = sin(q[idx[t]]);
-                cosq[idx[t]] = cos(q[idx[t]]);
-            }
-            f(q, u, ud, p, sinq, cosq, out);
-        } else {
-            int failed = 0;
-            npy_intp blocks = (n + BLOCK - 1) / BLOCK;
+        npy_intp su = a[1] ? NV : 0, sud = a[2] ? NV : 0;
+        double *out = PyArray_DATA(result);
+        int failed = 0;
+        if (nd == 1)
+            one_state(f, idx, nt, q, u, ud, p, out);
+        else {
             Py_BEGIN_ALLOW_THREADS
-            /* blocks of states over the cores (OpenMP, OMP_NUM_THREADS) when the batch is large */
-            #pragma omp parallel if (blocks >= 16)
-            {
-                double *sinq = malloc(2 * sizeof(double) * BLOCK * NQ), *cosq = sinq + BLOCK * NQ;
-                #pragma omp for schedule(static)
-                for (npy_intp b = 0; b < blocks; ++b) {
-                    npy_intp k0 = b * BLOCK;
-                    int m = n - k0 < BLOCK ? (int)(n - k0) : BLOCK;
-                    if (sinq == NULL) {
-                        failed = 1;
-                        continue;
-                    }
-                    trig_block(q + k0 * NQ, m, idx, nt, sinq, cosq);
-                    for (npy_intp k = k0; k < k0 + m; ++k)
-                        f(q + k * NQ, u + k * su, ud + k * sud, p, sinq + (k - k0) * NQ, cosq + (k - k0) * NQ,
-                          out + k * size);
-                }
-                free(sinq);
-            }
+            failed = v ? batch_vector(v, idx, nt, rows * cols, n, q, u, su, ud, sud, p, out)
+                       : batch(f, idx, nt, rows * cols, n, q, u, su, ud, sud, p, out);
             Py_END_ALLOW_THREADS
-            if (failed) {
-                Py_CLEAR(result);
-                PyErr_NoMemory();
-                goto done;
-            }
+        }
+        if (failed) {
+            Py_CLEAR(result);
+            PyErr_NoMemory();
         }
     }
 done:
     for (int k = 0; k < 4; ++k)
         Py_XDECREF(a[k]);
-    return result;
+    return (PyObject *)result;
 }
 """
 
@@ -246,15 +352,18 @@ def cache_dir() -> Path:
 
 def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int) -> str:
     """The extension module `name`: the functions (C text of `e<i>`, output shape, the k of the sin(q[k])
-    and cos(q[k]) it reads) and their wrappers."""
-    parts = [f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n", PRELUDE]
-    table = []
+    and cos(q[k]) it reads) and their wrappers; `_attach` and `_hook` take the vector functions
+    (`vector`)."""
+    sizes = f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n#define NF {len(functions)}\n"
+    parts = [sizes, PRELUDE, vector.TYPES, vector.DRIVER, EVALUATE]
+    table = [f'    {{"_attach", attach, METH_O, NULL}},', f'    {{"_hook", set_hook, METH_O, NULL}},']
     for i, (source, (rows, cols), trig) in enumerate(functions):
         parts.append(source)  # static functions (`numpy_backend.C_TRIG`)
         parts.append(f"static const int t{i}[] = {{{', '.join(map(str, trig or [0]))}}};\n")
-        for kind, vector in (("m", 0), ("v", 1)):
+        for kind, column in (("m", 0), ("v", 1)):
             parts.append(f"static PyObject *{kind}{i}(PyObject *self, PyObject *const *args, Py_ssize_t nargs)\n"
-                         f"{{ return evaluate(e{i}, t{i}, {len(trig)}, {rows}, {cols}, {vector}, args, nargs); }}\n")
+                         f"{{ return evaluate(e{i}, {i}, t{i}, {len(trig)}, {rows}, {cols}, {column}, args, "
+                         "nargs); }\n")
             table.append(f'    {{"{kind}{i}", (PyCFunction)(void (*)(void)){kind}{i}, METH_FASTCALL, NULL}},')
     parts.append("static PyMethodDef methods[] = {\n" + "\n".join(table) + "\n    {NULL, NULL, 0, NULL}\n};\n"
                  f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, methods}};\n'
@@ -308,22 +417,30 @@ def load(name: str, target: Path):
 
 
 def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int):
-    """Compile (once per distinct source, compiler, flags, Python and NumPy) and import the extension module;
-    a cached module that is not intact or does not load is rebuilt once."""
-    key = repr((functions, nq, nv, n_params, compiler(), FLAGS, ATTEMPTS, sys.version, np.__version__)).encode()
+    """The extension module of `functions` (see `module_source`), compiled once (`compiled`)."""
+    return compiled((PRELUDE, vector.TYPES, vector.DRIVER, EVALUATE, functions, nq, nv, n_params),
+                    lambda name: module_source(name, functions, nq, nv, n_params))
+
+
+def compiled(content, source: Callable[[str], str]):
+    """The module of C text `source(name)` for `content` (all it is made of), compiled (once per distinct
+    content, compiler, flags, machine, Python and NumPy) and imported; a cached module that is not intact
+    or does not load is rebuilt once."""
+    machine = (compiler(), FLAGS, ATTEMPTS, vector.machine(), sys.version, np.__version__)
+    key = repr((content, *machine)).encode()
     name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
     target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
     if name in sys.modules:
         return sys.modules[name]
-    source = module_source(name, functions, nq, nv, n_params)
+    text = source(name)
     fresh = not intact(target)
     if fresh:
-        compile_module(source, target)
+        compile_module(text, target)
     while True:
         try:
             return load(name, target)
         except ImportError as error:
             if fresh:
                 raise ModelError(f"the compiled module {target} does not load: {error}") from None
-        compile_module(source, target)
+        compile_module(text, target)
         fresh = True

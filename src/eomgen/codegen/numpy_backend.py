@@ -51,6 +51,8 @@ class Syntax:
     segment: str = ""  # C: the header of a part of a long function (`FunctionWriter.source`), {name}
     call: str = ""  # the call of a part, {name}
     vector_trig: bool = False  # sin and cos of the coordinates in vector loops (`VECTOR_TRIG`)
+    sqrt: str = "sqrt({x})"
+    type: str = "double"  # C: the type of a variable (the values passed between parts)
 
 
 # a long C function is split in parts the compiler does not merge back: its time grows faster than the length
@@ -155,10 +157,10 @@ class Printer:
     def _power(self, base: sp.Expr, exp: sp.Expr) -> str:
         if exp == sp.Rational(1, 2):
             self.ops += 1
-            return f"sqrt({self(base)})"
+            return self.syntax.sqrt.format(x=self(base))
         if exp == -sp.Rational(1, 2):
             self.ops += 2
-            return f"(1.0/sqrt({self(base)}))"
+            return f"(1.0/{self.syntax.sqrt.format(x=self(base))})"
         if exp.is_Integer and 0 < int(exp) <= 4:
             self.ops += int(exp) - 1
             b = self(base)
@@ -307,7 +309,7 @@ class FunctionWriter:
             names |= {x for v in names if v in preamble for x in NAMES.findall(preamble[v].split("=", 1)[1])}
             lines = [syntax.segment.format(name=f"{name}_{c}"),
                      *(line for v, line in preamble.items() if v in names),
-                     *(f"    const double {v} = X[{slots[v]}];" for v in sorted(names)
+                     *(f"    const {syntax.type} {v} = X[{slots[v]}];" for v in sorted(names)
                        if where.get(v, c) < c)]
             for v, text in chunk:
                 lines.append(text)
@@ -315,7 +317,7 @@ class FunctionWriter:
                     lines.append(f"    X[{slots[v]}] = {v};")
             parts.append("\n".join(lines + [syntax.footer.format()]))
             calls.append(syntax.call.format(name=f"{name}_{c}"))
-        main = [syntax.header.format(name=name), f"    double X[{max(len(slots), 1)}];", *calls,
+        main = [syntax.header.format(name=name), f"    {syntax.type} X[{max(len(slots), 1)}];", *calls,
                 syntax.footer.format()]
         return "\n\n".join(parts) + "\n\n" + "\n".join(main) + "\n"
 
