@@ -119,7 +119,7 @@ typedef void (*eomgen_fn)(const double *, const double *, const double *, const 
 
 #define BLOCK 64
 #if defined(__x86_64__) && defined(__GLIBC__) && !defined(EOMGEN_NO_MVEC)
-/* glibc's vector sin and cos (libmvec, within 4 ulp) for the batched path; AVX2 where the CPU has it */
+/* glibc's vector sin and cos (libmvec, within 4 ulp) for the angles of a state and of a block of states */
 __attribute__((simd("notinbranch"))) extern double sin(double);
 __attribute__((simd("notinbranch"))) extern double cos(double);
 __attribute__((target_clones("avx2", "default")))
@@ -140,10 +140,15 @@ static void trig_block(const double *q, int m, const int *idx, int nt, double *s
 static void one_state(eomgen_fn f, const int *idx, int nt, const double *q, const double *u,
                       const double *ud, const double *p, double *out)
 {
-    double sinq[NQ], cosq[NQ];
+    /* the angles gathered, their sin and cos in two loops of a fixed length (vector calls), scattered */
+    enum { LANES = (NQ + 7) / 8 * 8 };
+    double sinq[NQ], cosq[NQ], x[LANES] = {0.0}, s[LANES], c[LANES];
+    for (int t = 0; t < nt; ++t) x[t] = q[idx[t]];
+    for (int t = 0; t < LANES; ++t) s[t] = sin(x[t]);
+    for (int t = 0; t < LANES; ++t) c[t] = cos(x[t]);
     for (int t = 0; t < nt; ++t) {
-        sinq[idx[t]] = sin(q[idx[t]]);
-        cosq[idx[t]] = cos(q[idx[t]]);
+        sinq[idx[t]] = s[t];
+        cosq[idx[t]] = c[t];
     }
     f(q, u, ud, p, sinq, cosq, out);
 }
