@@ -21,7 +21,6 @@ import importlib.util
 import os
 import shutil
 import stat
-import subprocess
 import sys
 import sysconfig
 import tempfile
@@ -31,9 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
-from ..progress import progress
+from .compile import COMPILE, build_library, optimisation, translation_units
 
-FLAGS = ["-O2", "-fno-math-errno", "-ftree-vectorize", "-fPIC", "-shared"]
 # batches over the cores with vector sin and cos; else one core, scalar sin and cos
 ATTEMPTS = (["-fopenmp", "-lmvec", "-lm"], ["-DEOMGEN_NO_MVEC", "-lm"])
 
@@ -278,20 +276,13 @@ def intact(target: Path) -> bool:
         return False
 
 
-def compile_module(source: str, target: Path) -> None:
-    """Compile `source` in a temp folder beside `target`, move the module in (an atomic rename; a concurrent
-    writer leaves the same bytes), then its checksum."""
+def compile_module(glue: str, header: str, units: list[list[str]], target: Path) -> None:
+    """Compile the module (`compile.build_library`) in a temp folder beside `target`, move it in (an atomic
+    rename; a concurrent writer leaves the same bytes), then its checksum."""
     with tempfile.TemporaryDirectory(dir=target.parent) as tmp:  # same file system: the moves are renames
-        c_file, so_file = Path(tmp) / "module.c", Path(tmp) / target.name
-        c_file.write_text(source)
-        command = [compiler(), *FLAGS, f"-I{python_headers()}", f"-I{np.get_include()}",
-                   str(c_file), "-o", str(so_file)]
-        for options in progress(ATTEMPTS, "compiling C", unit="attempt"):  # the first that builds here
-            result = subprocess.run(command + options, capture_output=True, text=True)
-            if result.returncode == 0:
-                break
-        if result.returncode != 0:
-            raise ModelError(f"the C compiler failed: {result.stderr[:2000]}")
+        so_file = Path(tmp) / target.name
+        build_library(compiler(), glue, header, units, [f"-I{python_headers()}", f"-I{np.get_include()}"],
+                      ATTEMPTS, Path(tmp), so_file)
         digest = Path(tmp) / "sha256"
         digest.write_text(sha256(so_file) + "\n")
         os.replace(so_file, target)
@@ -308,22 +299,26 @@ def load(name: str, target: Path):
 
 
 def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int):
-    """Compile (once per distinct source, compiler, flags, Python and NumPy) and import the extension module;
-    a cached module that is not intact or does not load is rebuilt once."""
-    key = repr((functions, nq, nv, n_params, compiler(), FLAGS, ATTEMPTS, sys.version, np.__version__)).encode()
+    """Compile (once per distinct translation units, glue, compiler, flags, Python and NumPy) and import the
+    extension module; a cached module that is not intact or does not load is rebuilt once."""
+    header, units = translation_units([source for source, _, _ in functions])
+    layout = [(optimisation(unit), unit) for unit in units]
+    key = repr((header, layout, [(shape, trig) for _, shape, trig in functions], nq, nv, n_params, PRELUDE,
+                compiler(), COMPILE, ATTEMPTS, sys.version, np.__version__)).encode()
     name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
     target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
     if name in sys.modules:
         return sys.modules[name]
-    source = module_source(name, functions, nq, nv, n_params)
+    glue = module_source(name, [(header if i == 0 else "", shape, trig)
+                                for i, (_, shape, trig) in enumerate(functions)], nq, nv, n_params)
     fresh = not intact(target)
     if fresh:
-        compile_module(source, target)
+        compile_module(glue, header, units, target)
     while True:
         try:
             return load(name, target)
         except ImportError as error:
             if fresh:
                 raise ModelError(f"the compiled module {target} does not load: {error}") from None
-        compile_module(source, target)
+        compile_module(glue, header, units, target)
         fresh = True

@@ -1,0 +1,129 @@
+"""A build that scales: the generated C functions as translation units compiled at once, one compiler
+per core, then linked into one shared library.
+
+Each function's text is cut into its definitions (a long function is already written as parts, see
+`numpy_backend.FunctionWriter._parts`); the definitions lose their `static` (the library exports only
+its entry point: -fvisibility=hidden) and are packed into units of about `UNIT` characters, each unit
+with a prototype of every definition. The number of units depends on the text only, not on the machine,
+so the same functions give the same library everywhere. A unit is optimised by its size
+(`optimisation`): the big ones at -O1, which compiles in less time and memory for the same speed (see
+benchmarks/builds.py)."""
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from pathlib import Path
+
+from ..errors import ModelError
+from ..progress import progress
+
+UNIT = 60_000  # characters of definitions per translation unit
+LARGE = 20_000  # characters of definitions from which a unit is compiled at -O1
+COMPILE = ["-fno-math-errno", "-ftree-vectorize", "-fPIC", "-fvisibility=hidden"]
+
+
+def definitions(source: str) -> tuple[list[str], list[str]]:
+    """The preprocessor blocks and the function definitions of generated C text (a definition runs from
+    its first line at column 0 to its closing brace at column 0; its signature is the line before its
+    opening brace), each without `static`."""
+    blocks, found, lines = [], [], []
+    for line in source.splitlines():
+        if not lines and line.startswith("#"):
+            if blocks and blocks[-1][-1] != "":
+                blocks[-1].append(line)
+            else:
+                blocks.append([line])
+        elif lines or line.strip():
+            lines.append(line)
+            if line == "}":
+                at = lines.index("{") - 1
+                lines[at] = lines[at].removeprefix("static ")
+                found.append("\n".join(lines))
+                lines = []
+        elif blocks:
+            blocks[-1].append("")  # a blank line ends a preprocessor block
+    return ["\n".join(b).strip() for b in blocks], found
+
+
+def prototype(definition: str) -> str:
+    lines = definition.split("\n")
+    return lines[lines.index("{") - 1] + ";"
+
+
+def translation_units(sources: list[str]) -> tuple[str, list[list[str]]]:
+    """The shared header (math.h, the macros, a prototype of every definition) and the definitions of
+    `sources` packed into ⌈characters / UNIT⌉ units of about equal size (the largest first, each into
+    the smallest unit so far)."""
+    blocks, found = [], []
+    for source in sources:
+        b, d = definitions(source)
+        blocks += [x for x in b if x not in blocks]
+        found += d
+    header = "\n".join(["#include <math.h>", *blocks, *map(prototype, found)]) + "\n"
+    units: list[list[str]] = [[] for _ in range(math.ceil(sum(map(len, found)) / UNIT))]
+    sizes = [0] * len(units)
+    for d in sorted(found, key=len, reverse=True):
+        k = sizes.index(min(sizes))
+        units[k].append(d)
+        sizes[k] += len(d)
+    return header, units
+
+
+def optimisation(unit: list[str]) -> str:
+    """-O2, or -O1 for a unit of `LARGE` characters or more."""
+    return "-O1" if sum(map(len, unit)) >= LARGE else "-O2"
+
+
+def jobs() -> int:
+    """The cores this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+def compile_objects(compiler: str, commands: dict[str, list[str]]) -> dict[str, str]:
+    """Run the compiler once per {label: arguments}, `jobs()` at once, with a progress bar over them;
+    the compiler's messages of those that fail, by label."""
+    def run(arguments):
+        return subprocess.run([compiler, *arguments], capture_output=True, text=True)
+
+    with ThreadPoolExecutor(jobs()) as pool:
+        futures = {pool.submit(run, arguments): label for label, arguments in commands.items()}
+        done = progress(as_completed(futures), "compiling C", total=len(futures), unit="unit")
+        return {futures[f]: f.result().stderr for f in list(done) if f.result().returncode != 0}
+
+
+def build_library(compiler: str, glue: str, header: str, units: list[list[str]], includes: list[str],
+                  attempts: tuple[list[str], ...], folder: Path, library: Path) -> None:
+    """Compile `glue` (the module's entry points) and the `units` (each after `header`) in `folder` and
+    link them into `library`: with the first of `attempts` (options for the glue and the link) that
+    builds here; a ModelError with the compiler's message naming the unit that fails."""
+    objects, commands = [], {}
+    for k, unit in enumerate(units):
+        text = "\n\n".join(unit)
+        c_file = folder / f"unit{k}.c"
+        c_file.write_text(header + "\n" + text)
+        objects.append(str(c_file.with_suffix(".o")))
+        label = f"unit {k} (functions {', '.join(map(name, unit))})"
+        commands[label] = [optimisation(unit), *COMPILE, "-c", str(c_file), "-o", objects[-1]]
+    glue_file, glue_object = folder / "module.c", str(folder / "module.o")
+    glue_file.write_text(glue)
+    for options in attempts:
+        glue_command = ["-O2", *COMPILE, *includes, *options, "-c", str(glue_file), "-o", glue_object]
+        failed = compile_objects(compiler, {"the module": glue_command, **commands})
+        if units_failed := [f"{label}: {error}" for label, error in failed.items() if label != "the module"]:
+            raise ModelError(f"the C compiler failed on {units_failed[0][:2000]}")
+        commands = {}  # compiled
+        if "the module" not in failed:
+            link = subprocess.run([compiler, "-shared", glue_object, *objects, *options, "-o", str(library)],
+                                  capture_output=True, text=True)
+            if link.returncode == 0:
+                return
+            failed["the module"] = link.stderr
+    raise ModelError(f"the C compiler failed on the module: {failed['the module'][:2000]}")
+
+
+def name(definition: str) -> str:
+    """The name of the function a definition defines."""
+    signature = prototype(definition)
+    return signature[:signature.index("(")].split()[-1]
