@@ -54,15 +54,15 @@ def prototype(definition: str) -> str:
 
 def translation_units(sources: list[str]) -> tuple[str, list[list[str]]]:
     """The shared header (math.h, the macros, a prototype of every definition) and the definitions of
-    `sources` packed into ⌈characters / UNIT⌉ units of about equal size (the largest first, each into
-    the smallest unit so far)."""
+    `sources` packed into ⌈characters / UNIT⌉ units (at most one per definition) of about equal size (the
+    largest first, each into the smallest unit so far)."""
     blocks, found = [], []
     for source in sources:
         b, d = definitions(source)
         blocks += [x for x in b if x not in blocks]
         found += d
     header = "\n".join(["#include <math.h>", *blocks, *map(prototype, found)]) + "\n"
-    units: list[list[str]] = [[] for _ in range(math.ceil(sum(map(len, found)) / UNIT))]
+    units: list[list[str]] = [[] for _ in range(min(math.ceil(sum(map(len, found)) / UNIT), len(found)))]
     sizes = [0] * len(units)
     for d in sorted(found, key=len, reverse=True):
         k = sizes.index(min(sizes))
