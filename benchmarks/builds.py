@@ -7,10 +7,10 @@ up is reported, not the machine. The C numbers are checked against Pinocchio (cr
 at one state.
 
 With --before REF the same cases run first on the eomgen of git revision REF (its src/ exported to a temp
-folder), and the table shows both.
+folder), and the table shows both; --after REF measures revision REF instead of this working tree.
 
 Run: python benchmarks/builds.py [robots ...] [--method projected_newton_euler] [--chain 50]
-     [--before main] [--limit-gb 8] [--timeout 900] [--out benchmarks/results/builds.json]"""
+     [--before main] [--after HEAD] [--limit-gb 8] [--timeout 900] [--out benchmarks/results/builds.json]"""
 from __future__ import annotations
 
 import argparse
@@ -130,6 +130,7 @@ def run(case: str, method: str, source: Path, limit_gb: float, timeout: float) -
 
 def export(revision: str, folder: Path) -> Path:
     """src/ of git `revision` in `folder`."""
+    folder.mkdir()
     archive = subprocess.run(["git", "-C", str(HERE.parent), "archive", revision, "src"], capture_output=True,
                              check=True).stdout
     subprocess.run(["tar", "-x", "-C", str(folder)], input=archive, check=True)
@@ -151,6 +152,7 @@ def main() -> None:
     parser.add_argument("--method", default="recursive")
     parser.add_argument("--chain", type=int, nargs="*", default=[], help="n-link chains (projected Newton-Euler)")
     parser.add_argument("--before", help="git revision to compare with")
+    parser.add_argument("--after", help="git revision to measure (default: this working tree)")
     parser.add_argument("--limit-gb", type=float, default=8.0)
     parser.add_argument("--timeout", type=float, default=900.0)
     parser.add_argument("--one", help=argparse.SUPPRESS)
@@ -163,11 +165,11 @@ def main() -> None:
 
     cases = [(name, args.method) for name in args.robots or eg.robots.names()]
     cases += [(f"chain{n}", "projected_newton_euler") for n in args.chain]
-    versions = {"after": HERE.parent / "src"}
     rows = []
     with tempfile.TemporaryDirectory() as folder:
+        versions = {"after": export(args.after, Path(folder) / "after") if args.after else HERE.parent / "src"}
         if args.before:
-            versions = {"before": export(args.before, Path(folder)), **versions}
+            versions = {"before": export(args.before, Path(folder) / "before"), **versions}
         columns = "derive  print compile  total gcc-cpu peak-MB"
         print(f"{'case':22} {'method':8} " + "  |  ".join(f"{v}: {columns}" for v in versions) + "   load")
         for case, method in cases:

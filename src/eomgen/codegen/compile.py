@@ -4,7 +4,7 @@ per core, then linked into one shared library.
 Each function's text is cut into its definitions (a long function is already written as parts, see
 `numpy_backend.FunctionWriter._parts`); the definitions lose their `static` (the library exports only
 its entry point: -fvisibility=hidden) and are packed into units of about `UNIT` characters, each unit
-with a prototype of every definition. The number of units depends on the text only, not on the machine,
+with the prototypes of the functions it calls from the others. The number of units depends on the text only, not on the machine,
 so the same functions give the same library everywhere. A unit is optimised by its size
 (`optimisation`): the big ones at -O1, which compiles in less time and memory for the same speed (see
 benchmarks/builds.py)."""
@@ -12,15 +12,18 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import subprocess
 from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import ModelError
 from ..progress import progress
 
 UNIT = 60_000  # characters of definitions per translation unit
-LARGE = 20_000  # characters of definitions from which a unit is compiled at -O1
+LARGE = 20_000  # characters from which a unit is compiled at -O1
+CALL = re.compile(r"\b(\w+)\(")
 COMPILE = ["-fno-math-errno", "-ftree-vectorize", "-fPIC", "-fvisibility=hidden"]
 
 
@@ -52,28 +55,49 @@ def prototype(definition: str) -> str:
     return lines[lines.index("{") - 1] + ";"
 
 
-def translation_units(sources: list[str]) -> tuple[str, list[list[str]]]:
-    """The shared header (math.h, the macros, a prototype of every definition) and the definitions of
-    `sources` packed into ⌈characters / UNIT⌉ units (at most one per definition) of about equal size (the
-    largest first, each into the smallest unit so far)."""
+def name(definition: str) -> str:
+    """The name of the function a definition defines."""
+    signature = prototype(definition)
+    return signature[:signature.index("(")].split()[-1]
+
+
+@dataclass(frozen=True)
+class Unit:
+    """One translation unit: the functions it defines and its C text."""
+
+    names: tuple[str, ...]
+    text: str
+
+
+def translation_units(sources: list[str]) -> tuple[str, list[Unit]]:
+    """The declarations for the module's entry points (math.h, the macros, a prototype of every
+    definition) and the definitions of `sources` packed into ⌈characters / UNIT⌉ units (at most one per
+    definition) of about equal size (the largest first, each into the smallest unit so far), each with
+    the prototypes of the functions it calls from other units."""
     blocks, found = [], []
     for source in sources:
         b, d = definitions(source)
         blocks += [x for x in b if x not in blocks]
         found += d
-    header = "\n".join(["#include <math.h>", *blocks, *map(prototype, found)]) + "\n"
-    units: list[list[str]] = [[] for _ in range(min(math.ceil(sum(map(len, found)) / UNIT), len(found)))]
-    sizes = [0] * len(units)
+    prototypes = {name(d): prototype(d) for d in found}
+    packed: list[list[str]] = [[] for _ in range(min(math.ceil(sum(map(len, found)) / UNIT), len(found)))]
+    sizes = [0] * len(packed)
     for d in sorted(found, key=len, reverse=True):
         k = sizes.index(min(sizes))
-        units[k].append(d)
+        packed[k].append(d)
         sizes[k] += len(d)
-    return header, units
+    head = ["#include <math.h>", *blocks]
+    units = []
+    for definitions_ in packed:
+        names = tuple(map(name, definitions_))
+        calls = sorted(set(CALL.findall("\n".join(definitions_))) & prototypes.keys() - set(names))
+        units.append(Unit(names, "\n".join(head + [prototypes[c] for c in calls] + ["", *definitions_])))
+    return "\n".join(head + list(prototypes.values())) + "\n", units
 
 
-def optimisation(unit: list[str]) -> str:
+def optimisation(unit: Unit) -> str:
     """-O2, or -O1 for a unit of `LARGE` characters or more."""
-    return "-O1" if sum(map(len, unit)) >= LARGE else "-O2"
+    return "-O1" if len(unit.text) >= LARGE else "-O2"
 
 
 def jobs() -> int:
@@ -93,18 +117,17 @@ def compile_objects(compiler: str, commands: dict[str, list[str]]) -> dict[str, 
         return {futures[f]: f.result().stderr for f in list(done) if f.result().returncode != 0}
 
 
-def build_library(compiler: str, glue: str, header: str, units: list[list[str]], includes: list[str],
+def build_library(compiler: str, glue: str, units: list[Unit], includes: list[str],
                   attempts: tuple[list[str], ...], folder: Path, library: Path) -> None:
-    """Compile `glue` (the module's entry points) and the `units` (each after `header`) in `folder` and
-    link them into `library`: with the first of `attempts` (options for the glue and the link) that
-    builds here; a ModelError with the compiler's message naming the unit that fails."""
+    """Compile `glue` (the module's entry points) and the `units` in `folder` and link them into
+    `library`: with the first of `attempts` (options for the glue and the link) that builds here; a
+    ModelError with the compiler's message naming the unit that fails."""
     objects, commands = [], {}
     for k, unit in enumerate(units):
-        text = "\n\n".join(unit)
         c_file = folder / f"unit{k}.c"
-        c_file.write_text(header + "\n" + text)
+        c_file.write_text(unit.text)
         objects.append(str(c_file.with_suffix(".o")))
-        label = f"unit {k} (functions {', '.join(map(name, unit))})"
+        label = f"unit {k} (functions {', '.join(unit.names)})"
         commands[label] = [optimisation(unit), *COMPILE, "-c", str(c_file), "-o", objects[-1]]
     glue_file, glue_object = folder / "module.c", str(folder / "module.o")
     glue_file.write_text(glue)
@@ -121,9 +144,3 @@ def build_library(compiler: str, glue: str, header: str, units: list[list[str]],
                 return
             failed["the module"] = link.stderr
     raise ModelError(f"the C compiler failed on the module: {failed['the module'][:2000]}")
-
-
-def name(definition: str) -> str:
-    """The name of the function a definition defines."""
-    signature = prototype(definition)
-    return signature[:signature.index("(")].split()[-1]

@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
-from .compile import COMPILE, build_library, optimisation, translation_units
+from .compile import COMPILE, Unit, build_library, optimisation, translation_units
 
 # batches over the cores with vector sin and cos; else one core, scalar sin and cos
 ATTEMPTS = (["-fopenmp", "-lmvec", "-lm"], ["-DEOMGEN_NO_MVEC", "-lm"])
@@ -276,13 +276,13 @@ def intact(target: Path) -> bool:
         return False
 
 
-def compile_module(glue: str, header: str, units: list[list[str]], target: Path) -> None:
+def compile_module(glue: str, units: list[Unit], target: Path) -> None:
     """Compile the module (`compile.build_library`) in a temp folder beside `target`, move it in (an atomic
     rename; a concurrent writer leaves the same bytes), then its checksum."""
     with tempfile.TemporaryDirectory(dir=target.parent) as tmp:  # same file system: the moves are renames
         so_file = Path(tmp) / target.name
-        build_library(compiler(), glue, header, units, [f"-I{python_headers()}", f"-I{np.get_include()}"],
-                      ATTEMPTS, Path(tmp), so_file)
+        build_library(compiler(), glue, units, [f"-I{python_headers()}", f"-I{np.get_include()}"], ATTEMPTS,
+                      Path(tmp), so_file)
         digest = Path(tmp) / "sha256"
         digest.write_text(sha256(so_file) + "\n")
         os.replace(so_file, target)
@@ -302,7 +302,7 @@ def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_par
     """Compile (once per distinct translation units, glue, compiler, flags, Python and NumPy) and import the
     extension module; a cached module that is not intact or does not load is rebuilt once."""
     header, units = translation_units([source for source, _, _ in functions])
-    layout = [(optimisation(unit), unit) for unit in units]
+    layout = [(optimisation(unit), unit.text) for unit in units]
     key = repr((header, layout, [(shape, trig) for _, shape, trig in functions], nq, nv, n_params, PRELUDE,
                 compiler(), COMPILE, ATTEMPTS, sys.version, np.__version__)).encode()
     name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
@@ -313,12 +313,12 @@ def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_par
                                 for i, (_, shape, trig) in enumerate(functions)], nq, nv, n_params)
     fresh = not intact(target)
     if fresh:
-        compile_module(glue, header, units, target)
+        compile_module(glue, units, target)
     while True:
         try:
             return load(name, target)
         except ImportError as error:
             if fresh:
                 raise ModelError(f"the compiled module {target} does not load: {error}") from None
-        compile_module(glue, header, units, target)
+        compile_module(glue, units, target)
         fresh = True

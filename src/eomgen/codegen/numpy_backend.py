@@ -60,7 +60,7 @@ NOINLINE = """#ifndef EOMGEN_NOINLINE
 #define EOMGEN_NOINLINE
 #endif
 #endif"""
-SEGMENT = 2500  # operations per part
+SEGMENT = 1000  # operations per part
 NAMES = re.compile(r"\b_[A-Za-z_]+[0-9]+\b")  # the variables of generated code: _x3, _q0, _sin_q1, ...
 
 
