@@ -11,6 +11,7 @@ folder), and the table shows both; --after REF measures revision REF instead of 
 
 Run: python benchmarks/builds.py [robots ...] [--method projected_newton_euler] [--chain 50]
      [--before main] [--after HEAD] [--limit-gb 8] [--timeout 900] [--out benchmarks/results/builds.json]"""
+
 from __future__ import annotations
 
 import argparse
@@ -85,9 +86,14 @@ def one(case: str, method: str) -> dict:
     f = eg.codegen(eom, backend="c")
     t2 = time.perf_counter()
     cpu1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    row = {"derive_s": t1 - t0, "print_s": t2 - t1 - sum(compile_s), "compile_s": sum(compile_s),
-           "total_s": t2 - t0, "compiler_cpu_s": cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime,
-           "ops": sum(f.ops.values())}
+    row = {
+        "derive_s": t1 - t0,
+        "print_s": t2 - t1 - sum(compile_s),
+        "compile_s": sum(compile_s),
+        "total_s": t2 - t0,
+        "compiler_cpu_s": cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime,
+        "ops": sum(f.ops.values()),
+    }
     if not case.startswith("chain"):
         import pinocchio as pin
 
@@ -97,13 +103,16 @@ def one(case: str, method: str) -> dict:
         data = model.createData()
         q, u, _ = eg.random_states(system, 1, np.random.default_rng(0))
         qp = pinocchio_configuration(system, q)[0]
-        row["error"] = max(np.abs(f.M(q[0]) - pin.crba(model, data, qp)).max(),
-                           np.abs(f.nle(q[0], u[0]) - pin.nonLinearEffects(model, data, qp, u[0])).max())
+        row["error"] = max(
+            np.abs(f.M(q[0]) - pin.crba(model, data, qp)).max(),
+            np.abs(f.nle(q[0], u[0]) - pin.nonLinearEffects(model, data, qp, u[0])).max(),
+        )
     return row
 
 
 def run(case: str, method: str, source: Path, limit_gb: float, timeout: float) -> dict:
     """`one` in a fresh process importing eomgen from `source`, with a fresh cache, under the limits."""
+
     def limit():
         size = int(limit_gb * 1e9)
         resource.setrlimit(resource.RLIMIT_AS, (size, size))
@@ -112,8 +121,15 @@ def run(case: str, method: str, source: Path, limit_gb: float, timeout: float) -
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "PYTHONPATH": str(source), "EOMGEN_CACHE": cache, "EOMGEN_PROGRESS": "0"}
         command = [sys.executable, __file__, "--one", case, "--method", method]
-        child = subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                 preexec_fn=limit, start_new_session=True)  # its own group: killed whole
+        child = subprocess.Popen(
+            command,
+            env=env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            preexec_fn=limit,
+            start_new_session=True,
+        )  # its own group: killed whole
         stop, peak = threading.Event(), [0.0]
         threading.Thread(target=peak_memory, args=(child.pid, stop, peak), daemon=True).start()
         try:
@@ -131,26 +147,30 @@ def run(case: str, method: str, source: Path, limit_gb: float, timeout: float) -
 def export(revision: str, folder: Path) -> Path:
     """src/ of git `revision` in `folder`."""
     folder.mkdir()
-    archive = subprocess.run(["git", "-C", str(HERE.parent), "archive", revision, "src"], capture_output=True,
-                             check=True).stdout
+    archive = subprocess.run(
+        ["git", "-C", str(HERE.parent), "archive", revision, "src"], capture_output=True, check=True
+    ).stdout
     subprocess.run(["tar", "-x", "-C", str(folder)], input=archive, check=True)
     return folder / "src"
 
 
-def text(row: dict | None) -> str:
-    if row is None:
-        return ""
+def text(row: dict) -> str:
+    """A case's columns in the table."""
     if "failed" in row:
         return f"{row['failed'][:44]:>44} {row['peak_mb']:6.0f}"
-    return (f"{row['derive_s']:6.1f} {row['print_s']:6.1f} {row['compile_s']:7.1f} {row['total_s']:6.1f} "
-            f"{row['compiler_cpu_s']:7.1f} {row['peak_mb']:6.0f}")
+    return (
+        f"{row['derive_s']:6.1f} {row['print_s']:6.1f} {row['compile_s']:7.1f} {row['total_s']:6.1f} "
+        f"{row['compiler_cpu_s']:7.1f} {row['peak_mb']:6.0f}"
+    )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("robots", nargs="*")
     parser.add_argument("--method", default="recursive")
-    parser.add_argument("--chain", type=int, nargs="*", default=[], help="n-link chains (projected Newton-Euler)")
+    parser.add_argument(
+        "--chain", type=int, nargs="*", default=[], help="n-link chains (projected Newton-Euler)"
+    )
     parser.add_argument("--before", help="git revision to compare with")
     parser.add_argument("--after", help="git revision to measure (default: this working tree)")
     parser.add_argument("--limit-gb", type=float, default=8.0)
@@ -167,26 +187,51 @@ def main() -> None:
     cases += [(f"chain{n}", "projected_newton_euler") for n in args.chain]
     rows = []
     with tempfile.TemporaryDirectory() as folder:
-        versions = {"after": export(args.after, Path(folder) / "after") if args.after else HERE.parent / "src"}
+        versions = {
+            "after": export(args.after, Path(folder) / "after") if args.after else HERE.parent / "src"
+        }
         if args.before:
             versions = {"before": export(args.before, Path(folder) / "before"), **versions}
         columns = "derive  print compile  total gcc-cpu peak-MB"
         print(f"{'case':22} {'method':8} " + "  |  ".join(f"{v}: {columns}" for v in versions) + "   load")
         for case, method in cases:
-            found = {v: run(case, method, source, args.limit_gb, args.timeout) for v, source in versions.items()}
+            found = {
+                v: run(case, method, source, args.limit_gb, args.timeout) for v, source in versions.items()
+            }
             rows.append({"case": case, "method": method, **found})
             error = found["after"].get("error")
-            print(f"{case:22} {method[:8]:8} " + "  |  ".join(f"{'':{len(v) + 2}}{text(r)}" for v, r in found.items())
-                  + f"   {found['after']['load']:.1f}" + (f"   |C - Pinocchio| {error:.0e}" if error is not None else ""),
-                  flush=True)
+            print(
+                f"{case:22} {method[:8]:8} "
+                + "  |  ".join(f"{'':{len(v) + 2}}{text(r)}" for v, r in found.items())
+                + f"   {found['after']['load']:.1f}"
+                + (f"   |C - Pinocchio| {error:.0e}" if error is not None else ""),
+                flush=True,
+            )
     compiler = subprocess.run(["cc", "--version"], capture_output=True, text=True).stdout.splitlines()[0]
-    cpu = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
-                if line.startswith("model name")), platform.processor())
+    cpu = next(
+        (
+            line.split(":", 1)[1].strip()
+            for line in Path("/proc/cpuinfo").read_text().splitlines()
+            if line.startswith("model name")
+        ),
+        platform.processor(),
+    )
     from eomgen.codegen import compile as units
 
-    results_io.write(args.out, "builds", rows, compiler=compiler, cpu=cpu, cores=os.cpu_count(),
-                     before=args.before, flags=units.COMPILE, large_unit_chars=units.LARGE,
-                     unit_chars=units.UNIT, limit_gb=args.limit_gb, timeout_s=args.timeout)
+    results_io.write(
+        args.out,
+        "builds",
+        rows,
+        compiler=compiler,
+        cpu=cpu,
+        cores=os.cpu_count(),
+        before=args.before,
+        flags=units.COMPILE,
+        large_unit_chars=units.LARGE,
+        unit_chars=units.UNIT,
+        limit_gb=args.limit_gb,
+        timeout_s=args.timeout,
+    )
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 """Builds in translation units: functions cut into many parts spread over many units give Pinocchio's
 and the NumPy backend's numbers; the cache key covers every unit; a unit the compiler refuses is named in
 the error; the progress bar counts the units."""
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -32,8 +33,13 @@ def test_split_build_equals_pinocchio_and_numpy(name, method, tmp_path, monkeypa
     header, layout = units.translation_units(sources)
     assert "e0_5(" in sources[0] and len(layout) >= 4  # many parts, many units
     q, u, _ = eg.random_states(system, 20, np.random.default_rng(5))
-    for key, c, py in [("M", fc.M(q), fn.M(q)), ("b", fc.b(q, u), fn.b(q, u)), ("g", fc.g(q), fn.g(q)),
-                       ("nle", fc.nle(q, u), fn.nle(q, u)), ("M, one state", fc.M(q[3]), fn.M(q[3]))]:
+    for key, c, py in [
+        ("M", fc.M(q), fn.M(q)),
+        ("b", fc.b(q, u), fn.b(q, u)),
+        ("g", fc.g(q), fn.g(q)),
+        ("nle", fc.nle(q, u), fn.nle(q, u)),
+        ("M, one state", fc.M(q[3]), fn.M(q[3])),
+    ]:
         np.testing.assert_allclose(c, py, rtol=1e-12, atol=1e-12, err_msg=key)
     report = verify(system, method=method, backend="c", states=5)
     assert report.ok(1e-10), str(report)
@@ -75,9 +81,12 @@ def test_cache_key_covers_every_unit(tmp_path, monkeypatch):
 
 def test_a_failing_unit_is_named_with_the_compiler_message(tmp_path, monkeypatch):
     cut(monkeypatch, tmp_path, segment=2500, unit=10)
-    with pytest.raises(eg.ModelError, match=r"(?s)the C compiler failed on unit \d \(functions e1\).*undeclared"):
-        extension.build([constant(0, "1.0"), constant(1, "not_declared_anywhere"), constant(2, "3.0")],
-                        1, 1, 0)
+    with pytest.raises(
+        eg.ModelError, match=r"(?s)the C compiler failed on unit \d \(functions e1\).*undeclared"
+    ):
+        extension.build(
+            [constant(0, "1.0"), constant(1, "not_declared_anywhere"), constant(2, "3.0")], 1, 1, 0
+        )
     assert not list(tmp_path.glob("eomgen_*.so"))
 
 
@@ -96,5 +105,7 @@ def test_definitions_lose_static_and_keep_their_text():
     text = numpy_backend.NOINLINE + "\n\n" + part + "\n" + constant(0, "2.0")[0]
     blocks, found = units.definitions(text)
     assert blocks == [numpy_backend.NOINLINE]
-    assert [units.name(d) for d in found] == ["e0_0", "e0"] and not any(d.startswith("static") for d in found)
+    assert [units.name(d) for d in found] == ["e0_0", "e0"] and not any(
+        d.startswith("static") for d in found
+    )
     assert [d.split("\n")[-2] for d in found] == ["    out[0] = 1.0;", "    out[0] = 2.0;"]

@@ -4,10 +4,11 @@ per core, then linked into one shared library.
 Each function's text is cut into its definitions (a long function is already written as parts, see
 `numpy_backend.FunctionWriter._parts`); the definitions lose their `static` (the library exports only
 its entry point: -fvisibility=hidden) and are packed into units of about `UNIT` characters, each unit
-with the prototypes of the functions it calls from the others. The number of units depends on the text only, not on the machine,
-so the same functions give the same library everywhere. A unit is optimised by its size
-(`optimisation`): the big ones at -O1, which compiles in less time and memory for the same speed (see
-benchmarks/builds.py)."""
+with the prototypes of the functions it calls from the others. The number of units depends on the text
+only, not on the machine, so the same functions give the same library everywhere. A unit is optimised
+by its size (`optimisation`): the big ones at -O1, which compiles in less time for the same speed
+(measured: benchmarks/builds.py and the closing note of issue 17)."""
+
 from __future__ import annotations
 
 import math
@@ -58,7 +59,7 @@ def prototype(definition: str) -> str:
 def name(definition: str) -> str:
     """The name of the function a definition defines."""
     signature = prototype(definition)
-    return signature[:signature.index("(")].split()[-1]
+    return signature[: signature.index("(")].split()[-1]
 
 
 @dataclass(frozen=True)
@@ -108,6 +109,7 @@ def jobs() -> int:
 def compile_objects(compiler: str, commands: dict[str, list[str]]) -> dict[str, str]:
     """Run the compiler once per {label: arguments}, `jobs()` at once, with a progress bar over them;
     the compiler's messages of those that fail, by label."""
+
     def run(arguments):
         return subprocess.run([compiler, *arguments], capture_output=True, text=True)
 
@@ -117,8 +119,15 @@ def compile_objects(compiler: str, commands: dict[str, list[str]]) -> dict[str, 
         return {futures[f]: f.result().stderr for f in list(done) if f.result().returncode != 0}
 
 
-def build_library(compiler: str, glue: str, units: list[Unit], includes: list[str],
-                  attempts: tuple[list[str], ...], folder: Path, library: Path) -> None:
+def build_library(
+    compiler: str,
+    glue: str,
+    units: list[Unit],
+    includes: list[str],
+    attempts: tuple[list[str], ...],
+    folder: Path,
+    library: Path,
+) -> None:
     """Compile `glue` (the module's entry points) and the `units` in `folder` and link them into
     `library`: with the first of `attempts` (options for the glue and the link) that builds here; a
     ModelError with the compiler's message naming the unit that fails."""
@@ -134,12 +143,17 @@ def build_library(compiler: str, glue: str, units: list[Unit], includes: list[st
     for options in attempts:
         glue_command = ["-O2", *COMPILE, *includes, *options, "-c", str(glue_file), "-o", glue_object]
         failed = compile_objects(compiler, {"the module": glue_command, **commands})
-        if units_failed := [f"{label}: {error}" for label, error in failed.items() if label != "the module"]:
+        if units_failed := [
+            f"{label}: {error}" for label, error in failed.items() if label != "the module"
+        ]:
             raise ModelError(f"the C compiler failed on {units_failed[0][:2000]}")
         commands = {}  # compiled
         if "the module" not in failed:
-            link = subprocess.run([compiler, "-shared", glue_object, *objects, *options, "-o", str(library)],
-                                  capture_output=True, text=True)
+            link = subprocess.run(
+                [compiler, "-shared", glue_object, *objects, *options, "-o", str(library)],
+                capture_output=True,
+                text=True,
+            )
             if link.returncode == 0:
                 return
             failed["the module"] = link.stderr
