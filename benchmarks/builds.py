@@ -6,11 +6,14 @@ case runs in a fresh process under a memory limit (address space) and a time lim
 up is reported, not the machine. The C numbers are checked against Pinocchio (crba, nonLinearEffects)
 at one state.
 
-With --before REF the same cases run first on the eomgen of git revision REF (its src/ exported to a temp
-folder), and the table shows both; --after REF measures revision REF instead of this working tree.
+Per case also the time per call of M and nle (one state, from Python). With --before REF the same cases
+run first on the eomgen of git revision REF (its src/ exported to a temp folder), and the table shows
+both; --after REF measures revision REF instead of this working tree; --levels compiles every unit at
+-O1, -O2 and -O3 in turn (compile time and speed by optimisation level).
 
 Run: python benchmarks/builds.py [robots ...] [--method projected_newton_euler] [--chain 50]
-     [--before main] [--after HEAD] [--limit-gb 8] [--timeout 900] [--out benchmarks/results/builds.json]"""
+     [--before main] [--after HEAD] [--levels] [--limit-gb 8] [--timeout 900] [--out benchmarks/results/builds.json]
+"""
 
 from __future__ import annotations
 
@@ -53,14 +56,19 @@ def peak_memory(pid: int, stop: threading.Event, peak: list[float]) -> None:
         peak[0] = max(peak[0], total / 1e6)
 
 
-def one(case: str, method: str) -> dict:
-    """Derive and compile one case in this process (`case`: a robot's name or chain<n>)."""
+def one(case: str, method: str, level: str | None) -> dict:
+    """Derive and compile one case in this process (`case`: a robot's name or chain<n>; `level`: every
+    unit at this optimisation level), then time M and nle per call."""
+    import timeit
     import warnings
 
     import numpy as np
 
     import eomgen as eg
     from eomgen.codegen import extension
+
+    if level:
+        extension.optimisation = lambda unit: level
 
     compile_s = []
     compile_module = extension.compile_module
@@ -94,6 +102,10 @@ def one(case: str, method: str) -> dict:
         "compiler_cpu_s": cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime,
         "ops": sum(f.ops.values()),
     }
+    f = f.bind({name: 1.0 + 0.01 * k for k, name in enumerate(f.parameters.names)}) if f.params else f
+    q, u, _ = eg.random_states(system, 1, np.random.default_rng(0))
+    for key, call in (("M_us", lambda: f.M(q[0])), ("nle_us", lambda: f.nle(q[0], u[0]))):
+        row[key] = min(timeit.repeat(call, number=100, repeat=5)) / 100 * 1e6
     if not case.startswith("chain"):
         import pinocchio as pin
 
@@ -101,7 +113,6 @@ def one(case: str, method: str) -> dict:
 
         model = system.pinocchio_model
         data = model.createData()
-        q, u, _ = eg.random_states(system, 1, np.random.default_rng(0))
         qp = pinocchio_configuration(system, q)[0]
         row["error"] = max(
             np.abs(f.M(q[0]) - pin.crba(model, data, qp)).max(),
@@ -110,7 +121,7 @@ def one(case: str, method: str) -> dict:
     return row
 
 
-def run(case: str, method: str, source: Path, limit_gb: float, timeout: float) -> dict:
+def run(case: str, method: str, source: Path, limit_gb: float, timeout: float, level: str = "") -> dict:
     """`one` in a fresh process importing eomgen from `source`, with a fresh cache, under the limits."""
 
     def limit():
@@ -120,7 +131,7 @@ def run(case: str, method: str, source: Path, limit_gb: float, timeout: float) -
     load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "PYTHONPATH": str(source), "EOMGEN_CACHE": cache, "EOMGEN_PROGRESS": "0"}
-        command = [sys.executable, __file__, "--one", case, "--method", method]
+        command = [sys.executable, __file__, "--one", case, "--method", method, f"--level={level}"]
         child = subprocess.Popen(
             command,
             env=env,
@@ -157,10 +168,10 @@ def export(revision: str, folder: Path) -> Path:
 def text(row: dict) -> str:
     """A case's columns in the table."""
     if "failed" in row:
-        return f"{row['failed'][:44]:>44} {row['peak_mb']:6.0f}"
+        return f"{row['failed'][:44]:>44} {row['peak_mb']:6.0f} {'':12}"
     return (
         f"{row['derive_s']:6.1f} {row['print_s']:6.1f} {row['compile_s']:7.1f} {row['total_s']:6.1f} "
-        f"{row['compiler_cpu_s']:7.1f} {row['peak_mb']:6.0f}"
+        f"{row['compiler_cpu_s']:7.1f} {row['peak_mb']:6.0f} {row['M_us']:5.1f} {row['nle_us']:6.1f}"
     )
 
 
@@ -175,11 +186,13 @@ def main() -> None:
     parser.add_argument("--after", help="git revision to measure (default: this working tree)")
     parser.add_argument("--limit-gb", type=float, default=8.0)
     parser.add_argument("--timeout", type=float, default=900.0)
+    parser.add_argument("--levels", action="store_true", help="every unit at -O1, -O2, -O3 (this tree)")
     parser.add_argument("--one", help=argparse.SUPPRESS)
+    parser.add_argument("--level", default="", help=argparse.SUPPRESS)
     parser.add_argument("--out", default=results_io.default_path("builds"))
     args = parser.parse_args()
     if args.one:
-        print(json.dumps(one(args.one, args.method)))
+        print(json.dumps(one(args.one, args.method, args.level)))
         return
     import eomgen as eg
 
@@ -187,23 +200,26 @@ def main() -> None:
     cases += [(f"chain{n}", "projected_newton_euler") for n in args.chain]
     rows = []
     with tempfile.TemporaryDirectory() as folder:
-        versions = {
-            "after": export(args.after, Path(folder) / "after") if args.after else HERE.parent / "src"
-        }
+        after = export(args.after, Path(folder) / "after") if args.after else HERE.parent / "src"
+        versions = {"after": (after, "")}
         if args.before:
-            versions = {"before": export(args.before, Path(folder) / "before"), **versions}
-        columns = "derive  print compile  total gcc-cpu peak-MB"
+            versions = {"before": (export(args.before, Path(folder) / "before"), ""), **versions}
+        if args.levels:
+            versions = {level: (after, level) for level in ("-O1", "-O2", "-O3")}
+        columns = "derive  print compile  total gcc-cpu peak-MB  M-us nle-us"
         print(f"{'case':22} {'method':8} " + "  |  ".join(f"{v}: {columns}" for v in versions) + "   load")
         for case, method in cases:
             found = {
-                v: run(case, method, source, args.limit_gb, args.timeout) for v, source in versions.items()
+                v: run(case, method, source, args.limit_gb, args.timeout, level)
+                for v, (source, level) in versions.items()
             }
             rows.append({"case": case, "method": method, **found})
-            error = found["after"].get("error")
+            last = found[list(versions)[-1]]
+            error = last.get("error")
             print(
                 f"{case:22} {method[:8]:8} "
                 + "  |  ".join(f"{'':{len(v) + 2}}{text(r)}" for v, r in found.items())
-                + f"   {found['after']['load']:.1f}"
+                + f"   {last['load']:.1f}"
                 + (f"   |C - Pinocchio| {error:.0e}" if error is not None else ""),
                 flush=True,
             )
