@@ -50,6 +50,13 @@ def measure(name: str, states: int, megabytes: float, repeat: int) -> dict:
     import eomgen as eg
     from eomgen.codegen import extension
 
+    try:
+        from eomgen.codegen.compile import COMPILE
+
+        flags = ["-O2 (-O1 for large units)", *COMPILE]
+    except ImportError:  # an eomgen of before the translation units
+        flags = list(extension.FLAGS)
+
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # files with inertias Pinocchio takes as they are
         system = eg.robots.load(name)
@@ -63,7 +70,7 @@ def measure(name: str, states: int, megabytes: float, repeat: int) -> dict:
         "states": n,
         "ops_M": fc.ops["M"],
         "ops_nle": fc.ops.get("nle"),
-        "flags": " ".join(extension.FLAGS + list(extension.ATTEMPTS[0])),
+        "flags": " ".join(flags + list(extension.ATTEMPTS[0])),
     }
     calls = {
         "M": (lambda **o: fc.M(q, **o), lambda: fc.M(q[0])),

@@ -16,7 +16,7 @@ from ..errors import ModelError
 from ..progress import progress
 from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer, written
 from .c_derivatives import CompiledDerivatives, plain_function, plain_parts
-from .extension import build, compiled, compiler, python_headers
+from .extension import build, compile_module, compiled, compiler, python_headers
 from .kinematic_functions import placement
 from .module import outputs
 from .numpy_backend import C, C_TRIG, VECTOR_TRIG
@@ -110,7 +110,8 @@ def extension_functions(written: list, nq: int, nv: int, n_params: int,
 
 def lanes_module(sources: list[str | None], nq: int, nv: int, n_params: int):
     """The module of the vector functions `sources` (`vector.lanes_source`)."""
-    return compiled((TYPES, sources, nq, nv, n_params), lambda name: lanes_source(name, sources))
+    return compiled((TYPES, sources, nq, nv, n_params),
+                    lambda name, target: compile_module(lanes_source(name, sources), [], target))
 
 
 def comment(text: str) -> str:

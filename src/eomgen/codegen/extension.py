@@ -23,7 +23,6 @@ import importlib.util
 import os
 import shutil
 import stat
-import subprocess
 import sys
 import sysconfig
 import tempfile
@@ -34,10 +33,9 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
-from ..progress import progress
 from . import vector
+from .compile import COMPILE, Unit, build_library, optimisation, translation_units
 
-FLAGS = ["-O2", "-march=native", "-fno-math-errno", "-ftree-vectorize", "-fPIC", "-shared"]
 # batches over the cores with vector sin and cos; else one core, scalar sin and cos
 ATTEMPTS = (["-fopenmp", "-lmvec", "-lm"], ["-DEOMGEN_NO_MVEC", "-lm"])
 
@@ -392,20 +390,13 @@ def intact(target: Path) -> bool:
         return False
 
 
-def compile_module(source: str, target: Path) -> None:
-    """Compile `source` in a temp folder beside `target`, move the module in (an atomic rename; a concurrent
-    writer leaves the same bytes), then its checksum."""
+def compile_module(glue: str, units: list[Unit], target: Path) -> None:
+    """Compile the module (`compile.build_library`) in a temp folder beside `target`, move it in (an atomic
+    rename; a concurrent writer leaves the same bytes), then its checksum."""
     with tempfile.TemporaryDirectory(dir=target.parent) as tmp:  # same file system: the moves are renames
-        c_file, so_file = Path(tmp) / "module.c", Path(tmp) / target.name
-        c_file.write_text(source)
-        command = [compiler(), *FLAGS, f"-I{python_headers()}", f"-I{np.get_include()}",
-                   str(c_file), "-o", str(so_file)]
-        for options in progress(ATTEMPTS, "compiling C", unit="attempt"):  # the first that builds here
-            result = subprocess.run(command + options, capture_output=True, text=True)
-            if result.returncode == 0:
-                break
-        if result.returncode != 0:
-            raise ModelError(f"the C compiler failed: {result.stderr[:2000]}")
+        so_file = Path(tmp) / target.name
+        build_library(compiler(), glue, units, [f"-I{python_headers()}", f"-I{np.get_include()}"], ATTEMPTS,
+                      Path(tmp), so_file)
         digest = Path(tmp) / "sha256"
         digest.write_text(sha256(so_file) + "\n")
         os.replace(so_file, target)
@@ -422,30 +413,38 @@ def load(name: str, target: Path):
 
 
 def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int):
-    """The extension module of `functions` (see `module_source`), compiled once (`compiled`)."""
-    return compiled((PRELUDE, vector.TYPES, vector.DRIVER, EVALUATE, functions, nq, nv, n_params),
-                    lambda name: module_source(name, functions, nq, nv, n_params))
+    """The extension module of `functions` (see `module_source`): their definitions compiled as translation
+    units in parallel (`compile`) and linked with the module's glue, once (`compiled`)."""
+    header, units = translation_units([source for source, _, _ in functions])
+    layout = [(optimisation(unit), unit.text) for unit in units]
+    shapes = [(shape, trig) for _, shape, trig in functions]
+
+    def make(name: str, target: Path) -> None:
+        glue = module_source(name, [(header if i == 0 else "", shape, trig) for i, (shape, trig) in enumerate(shapes)],
+                             nq, nv, n_params)
+        compile_module(glue, units, target)
+
+    return compiled((PRELUDE, vector.TYPES, vector.DRIVER, EVALUATE, header, layout, shapes, nq, nv, n_params), make)
 
 
-def compiled(content, source: Callable[[str], str]):
-    """The module of C text `source(name)` for `content` (all it is made of), compiled (once per distinct
-    content, compiler, flags, machine, Python and NumPy) and imported; a cached module that is not intact
-    or does not load is rebuilt once."""
-    machine = (compiler(), FLAGS, ATTEMPTS, vector.machine(), sys.version, np.__version__)
+def compiled(content, make: Callable[[str, Path], None]):
+    """The module `make(name, target)` compiles for `content` (all it is made of), compiled once per distinct
+    content, compiler, flags, machine, Python and NumPy, and imported; a cached module that is not intact or
+    does not load is rebuilt once."""
+    machine = (compiler(), COMPILE, ATTEMPTS, vector.machine(), sys.version, np.__version__)
     key = repr((content, *machine)).encode()
     name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
     target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
     if name in sys.modules:
         return sys.modules[name]
-    text = source(name)
     fresh = not intact(target)
     if fresh:
-        compile_module(text, target)
+        make(name, target)
     while True:
         try:
             return load(name, target)
         except ImportError as error:
             if fresh:
                 raise ModelError(f"the compiled module {target} does not load: {error}") from None
-        compile_module(text, target)
+        make(name, target)
         fresh = True

@@ -3,7 +3,7 @@
 A generated function `f(q, u, ud, p, out, sin, cos, sqrt, m)` evaluates, in order, the intermediates its
 outputs need and writes the outputs into `out` (shape (rows, cols) + batch), each output as soon as the
 intermediates it reads are known (short lives: faster to compile and to run). A long C function is
-written as parts of `SEGMENT` statements, called in turn (see `FunctionWriter._parts`). It runs with
+written as parts of about `SEGMENT` operations, called in turn (see `FunctionWriter._parts`). It runs with
 math's sin, cos, sqrt and the runtime's `_Scalar` as `m` (one state, Python floats: fast per call), with numpy's and
 the numpy module (states along the last axis: batched) or with mpmath's (the reference); `m` holds the
 other functions under numpy's names (m.tan, m.arctan2, m.where, ...). Every branch of a Piecewise is
@@ -63,7 +63,7 @@ NOINLINE = """#ifndef EOMGEN_NOINLINE
 #define EOMGEN_NOINLINE
 #endif
 #endif"""
-SEGMENT = 2500  # statements per part
+SEGMENT = 1000  # operations per part
 # plain C: sin and cos of the coordinates in two loops that the compiler turns into glibc's vector sin and
 # cos (libmvec, within 4 ulp; part of -lm on x86-64 Linux), as wide as the machine it compiles for
 VECTOR_TRIG = """#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__GLIBC__) \\
@@ -247,24 +247,28 @@ class FunctionWriter:
             if e != 0:
                 after.setdefault(max((position[s] for s in e.free_symbols if s in position), default=-1),
                                  []).append((i, j, e))
-        statements = []  # (the variable defined or None, the line)
+        statements = []  # (the variable defined or None, the line, its operations)
         for k in range(-1, len(needed)):
             if k >= 0:
                 text, n = self._line(needed[k])
-                statements.append((self.printer.names[needed[k]], text))
+                statements.append((self.printer.names[needed[k]], text, n))
                 ops += n
             for i, j, e in after.get(k, []):
                 before = self.printer.ops
-                statements.append((None, syntax.out.format(i=i, j=j, ij=i * cols + j, expr=self.printer(e))))
+                text = syntax.out.format(i=i, j=j, ij=i * cols + j, expr=self.printer(e))
+                statements.append((None, text, self.printer.ops - before))
                 ops += self.printer.ops - before
                 if symmetric and i != j:
                     statements.append((None, syntax.mirror.format(i=i, j=j, ij=i * cols + j,
-                                                                  ji=j * cols + i)))
-        split = syntax.segment and len(statements) > SEGMENT
-        preamble.update(self._trig(trig, syntax.vector_trig and not split))  # parts: one by one
-        if split:
+                                                                  ji=j * cols + i), 0))
+        trig_lines = self._trig(trig, syntax.vector_trig)
+        if "_tq" in trig_lines:  # the vector loops come first; parts pass their values on through X
+            statements = [(None if v == "_tq" else v, line, 0) for v, line in trig_lines.items()] + statements
+        else:
+            preamble.update(trig_lines)
+        if syntax.segment and ops > SEGMENT:
             return self._parts(name, preamble, statements), (rows, cols), ops
-        lines = [syntax.header.format(name=name), *preamble.values(), *(text for _, text in statements),
+        lines = [syntax.header.format(name=name), *preamble.values(), *(text for _, text, _ in statements),
                  syntax.footer.format()]
         return "\n".join(lines) + "\n", (rows, cols), ops
 
@@ -292,10 +296,16 @@ class FunctionWriter:
         return lines
 
     def _parts(self, name: str, preamble: dict[str, str], statements: list) -> str:
-        """A long C function as parts of `SEGMENT` statements, each its own function, called in turn; the
-        values a later part reads pass through the array X."""
+        """A long C function as parts of about `SEGMENT` operations, each its own function, called in turn;
+        the values a later part reads pass through the array X."""
         syntax = self.syntax
-        chunks = [statements[k:k + SEGMENT] for k in range(0, len(statements), SEGMENT)]
+        chunks, size = [[]], 0
+        for v, text, n in statements:
+            if size + n > SEGMENT and chunks[-1]:
+                chunks.append([])
+                size = 0
+            chunks[-1].append((v, text))
+            size += n
         where = {v: c for c, chunk in enumerate(chunks) for v, _ in chunk if v}
         reads = [set(NAMES.findall(" ".join(text.split("=", 1)[1] for _, text in chunk)))
                  for chunk in chunks]

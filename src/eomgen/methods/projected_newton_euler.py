@@ -9,11 +9,13 @@ Only the requested quantities are formed; a body without mass and inertia is not
 alone neither are the massless ones nor any rotation Jacobian."""
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
-from ..linalg import cross, dot, matmul, scale
+from ..linalg import cross, dot, matmul, mul, scale
 from ..model.loads import Point
 from ..progress import progress
 from .applied import add_armature, generalized_force, potential_energy
@@ -22,7 +24,7 @@ from .applied import add_armature, generalized_force, potential_energy
 def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     system, sub, n = kin.system, kin.sub, kin.n
     u = sp.Matrix(kin.u)
-    M, b, g = sp.zeros(n, n), sp.zeros(n, 1), sp.zeros(n, 1)
+    M, b, g = Sums(n, n), Sums(n, 1), Sums(n, 1)
     inertial = {"M", "b"} & set(quantities)
     for body in progress(system.bodies, "projected Newton-Euler", unit="body"):
         if not kin.chain[body] or (body.mass == 0 and (not inertial or body.inertia.is_zero_matrix)):
@@ -31,29 +33,56 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
         S = Point(body, body.com)
         J_P = kin.J_P(S)[:, idx]
         if "g" in quantities:
-            _accumulate(g, idx, matmul(J_P.T, scale(-body.mass, system.gravity)))
+            g.add(idx, matmul(J_P.T, scale(-body.mass, system.gravity)))
         if not inertial:
             continue
         J_R = kin.J_R(body)[:, idx]
         Theta, Omega = kin.inertia_world(body), kin.omega(body)
         if "M" in quantities:
-            ThetaJ_R = sub.add_matrix(matmul(Theta, J_R))
-            _accumulate(M, idx, scale(body.mass, matmul(J_P.T, J_P)) + matmul(J_R.T, ThetaJ_R))
+            P, R, ThetaR = (columns(X) for X in (J_P, J_R, sub.add_matrix(matmul(Theta, J_R))))
+            M.add_upper(idx, lambda a, c: mul(body.mass, dot(P[a], P[c])) + dot(R[a], ThetaR[c]))
         if "b" in quantities:
-            _accumulate(b, idx, matmul(J_P.T, scale(body.mass, kin.Jdot_u_P(S))) + matmul(J_R.T, (
+            b.add(idx, matmul(J_P.T, scale(body.mass, kin.Jdot_u_P(S))) + matmul(J_R.T, (
                 matmul(Theta, kin.Jdot_u_R(body)) + cross(Omega, sub.add_matrix(matmul(Theta, Omega))))))
-    compact = {key: value for key, value in (("M", M), ("b", b), ("g", g)) if key in quantities}
+    compact = {key: value.matrix() for key, value in (("M", M), ("b", b), ("g", g)) if key in quantities}
     if "M" in quantities:
-        add_armature(kin, M)
-        compact["T"] = dot(u, matmul(M, u)) / 2
+        add_armature(kin, compact["M"])
+        compact["T"] = dot(u, matmul(compact["M"], u)) / 2
     compact["U"] = potential_energy(kin)
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "projected_newton_euler", compact)
 
 
-def _accumulate(total: sp.Matrix, idx: list[int], part: sp.Matrix) -> None:
-    """total[idx, idx] += part (a body's contribution on the speeds of its chain), in place."""
-    for a, i in enumerate(idx):
-        for c in range(part.shape[1]):
-            total[i, idx[c] if total.shape[1] > 1 else 0] += part[a, c]
+def columns(A: sp.Matrix) -> list[list[sp.Expr]]:
+    """The columns of A as lists."""
+    return A.T.tolist()
+
+
+class Sums:
+    """A matrix of sums collected term by term and added once (adding to a growing sum one term at a
+    time re-sorts it each time: quadratic in the number of bodies)."""
+
+    def __init__(self, rows: int, cols: int) -> None:
+        self.terms: list[list[list]] = [[[] for _ in range(cols)] for _ in range(rows)]
+        self.cols, self.symmetric = cols, False
+
+    def add(self, idx: list[int], part: sp.Matrix) -> None:
+        """[idx, idx] += part, a body's contribution on the speeds of its chain (a column: [idx] += part)."""
+        for a, i in enumerate(idx):
+            for c in range(part.shape[1]):
+                self.terms[i][idx[c] if self.cols > 1 else 0].append(part[a, c])
+
+    def add_upper(self, idx: list[int], entry: Callable[[int, int], sp.Expr]) -> None:
+        """[idx, idx] += a symmetric part, given by its entries entry(a, c) for c >= a (M: half the work)."""
+        self.symmetric = True
+        for a, i in enumerate(idx):
+            for c in range(a, len(idx)):
+                self.terms[i][idx[c]].append(entry(a, c))
+
+    def matrix(self) -> sp.Matrix:
+        """The sums (a symmetric matrix: the upper triangle's, mirrored)."""
+        sums = [[sp.Add(*cell) for cell in row] for row in self.terms]
+        if self.symmetric:
+            return sp.Matrix(len(sums), self.cols, lambda i, j: sums[min(i, j)][max(i, j)])
+        return sp.Matrix(sums)
