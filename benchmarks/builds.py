@@ -12,8 +12,8 @@ both; --after REF measures revision REF instead of this working tree; --levels c
 -O1, -O2 and -O3 in turn (compile time and speed by optimisation level).
 
 Run: python benchmarks/builds.py [robots ...] [--method projected_newton_euler] [--chain 50]
-     [--before main] [--after HEAD] [--levels] [--limit-gb 8] [--timeout 900] [--out benchmarks/results/builds.json]
-"""
+     [--before main] [--after HEAD] [--levels] [--limit-gb 8] [--timeout 900]
+     [--out benchmarks/results/builds.json]"""
 
 from __future__ import annotations
 

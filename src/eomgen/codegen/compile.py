@@ -7,7 +7,7 @@ its entry point: -fvisibility=hidden) and are packed into units of about `UNIT` 
 with the prototypes of the functions it calls from the others. The number of units depends on the text
 only, not on the machine, so the same functions give the same library everywhere. A unit is optimised
 by its size (`optimisation`): the big ones at -O1, which compiles in less time for the same speed
-(measured: benchmarks/builds.py and the closing note of issue 17)."""
+(measured: benchmarks/builds.py --levels)."""
 
 from __future__ import annotations
 
