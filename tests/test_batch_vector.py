@@ -2,6 +2,8 @@
 per state, as the scalar per-call path and as the NumPy backend, for every batch size (partial blocks);
 out= reused and refused; functions with branches keep the scalar batch loop."""
 
+import warnings
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -12,7 +14,8 @@ from hypothesis import strategies as st
 import eomgen as eg
 from eomgen.codegen.vector import branches
 from eomgen.model.urdf import pinocchio_configuration
-from models import cart_pendulum
+from eomgen.verify import mass_matrix, to_pinocchio
+from models import cart_pendulum, close
 
 SIZES = [1, 3, 5, 7, 9, 17, 1000]  # W - 1 and W + 1 for W = 2, 4, 8; a partial last block
 
@@ -257,3 +260,32 @@ def test_vector_functions_that_do_not_compile_leave_the_scalar_loop(tmp_path, mo
         M = fc.M(q, params)
     np.testing.assert_allclose(M, fn.M(q, params), rtol=1e-13, atol=1e-13)
     np.testing.assert_allclose(fc.nle(q, u, params), fn.nle(q, u, params), rtol=1e-13, atol=1e-13)
+
+
+def test_sin_and_cos_of_a_parameter_in_vector_registers(tmp_path, monkeypatch):
+    """A placement turned by a symbolic angle φ: the vector functions read sin φ and cos φ of the
+    parameter lanes; they compile (no fallback warning) and the batch equals Pinocchio's crba with
+    the rotation by φ in numbers."""
+    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
+    phi = sp.Symbol("phi")
+
+    def arm(angle):
+        c, s = sp.cos(angle), sp.sin(angle)
+        system = eg.System(gravity=(0, 0, -9.81))
+        a = system.add_body("a", joint=eg.Revolute("j0", axis=(0, 1, 0)), mass=1.0, com=(0.1, 0, -0.3),
+                            inertia=np.diag([0.01, 0.02, 0.015]))
+        system.add_body("b", parent=a, joint=eg.Revolute("j1", axis=(1, 0, 0)), mass=2.0,
+                        com=(0.1, 0.05, -0.3), inertia=np.diag([0.01, 0.02, 0.015]),
+                        placement=eg.Placement(rotation=sp.Matrix([[c, -s, 0], [s, c, 0], [0, 0, 1]]),
+                                               translation=(0, 0, -0.5)))
+        return system
+
+    fc = eg.codegen(eg.derive(arm(phi)), backend="c")
+    q = np.random.default_rng(5).uniform(-2, 2, (11, 2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the vector module's fallback is a warning
+        batch = fc.M(q, params={"phi": 0.3})
+    model = to_pinocchio(arm(sp.Float(0.3)))
+    data = model.createData()
+    for k in range(len(q)):
+        close(batch[k], mass_matrix(model, data, q[k]), 1e-12, f"M {k}")

@@ -290,8 +290,11 @@ class FunctionWriter:
             if vectors and x in self._q_index:
                 expr = f"_t{f[0]}[{coordinates.index(x)}]"
             else:
-                trig_q = syntax.trig_q if x in self._q_index else "{f}({x})"
-                expr = trig_q.format(f=f, x=self.printer.names[x], k=self._q_index.get(x))
+                x_name = self.printer.names[x]
+                if x in self._q_index:
+                    expr = syntax.trig_q.format(f=f, x=x_name, k=self._q_index[x])
+                else:  # of a speed or a parameter: the syntax's function
+                    expr = f"{syntax.functions.get(f, f)}({x_name})"
             lines[self.trig[t]] = syntax.assign.format(var=self.trig[t], expr=expr)
         return lines
 
