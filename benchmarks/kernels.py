@@ -265,7 +265,8 @@ def cpp_harness(kernels: list[str], flags: str) -> Path | str:
         f"{KERNELS[k][3]}); }});"
         for k in kernels
     )
-    text = CPP_LOOP.replace("@repeat@", str(REPEAT)).replace("@checked@", str(CHECKED)).replace("@runs@", runs)
+    text = CPP_LOOP.replace("@repeat@", str(REPEAT)).replace("@checked@", str(CHECKED))
+    text = text.replace("@runs@", runs)
     compiler = subprocess.run(["c++", "--version"], capture_output=True, text=True).stdout
     key = hashlib.sha256(repr((text, flags, compiler, pin.__version__)).encode()).hexdigest()[:16]
     folder = CACHE / key

@@ -239,8 +239,8 @@ int main(void)
     symbols = subprocess.run(["nm", str(exe)], capture_output=True, text=True, check=True).stdout
     assert "_ZGV" in symbols  # glibc's vector sin and cos are called
     q, u, ud = eg.random_states(system, 20, np.random.default_rng(1))
-    lines = subprocess.run([str(exe)], input="".join(" ".join(repr(float(x)) for x in np.concatenate(s)) + "\n"
-                                                     for s in zip(q, u, ud)),
+    states = "".join(" ".join(repr(float(x)) for x in np.concatenate(s)) + "\n" for s in zip(q, u, ud))
+    lines = subprocess.run([str(exe)], input=states,
                            capture_output=True, text=True, check=True).stdout.splitlines()
     model, nv = system.pinocchio_model, system.nv
     data = model.createData()

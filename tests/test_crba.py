@@ -20,7 +20,7 @@ from models import close
 
 
 def hand(free: bool) -> eg.System:
-    """An arm (four revolute joints, then a spherical wrist) carrying four fingers of three revolute joints, with
+    """An arm (four revolute joints, a spherical wrist) carrying four fingers of three revolute joints, with
     tilted placements, off-axis centres of mass and a mimic joint on the last finger."""
     rng = np.random.default_rng(3)
     system = eg.System(gravity=(0, 0, -9.81))
@@ -37,7 +37,8 @@ def hand(free: bool) -> eg.System:
             placement=eg.Placement(rotation=rotation, translation=translation),
         )
 
-    base = body("base", None, eg.FreeFlyer("base") if free else eg.Revolute("yaw", axis=(0, 0, 1)), (0, 0, 0))
+    root = eg.FreeFlyer("base") if free else eg.Revolute("yaw", axis=(0, 0, 1))
+    base = body("base", None, root, (0, 0, 0))
     link = base
     for k, axis in enumerate([(0, 1, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]):
         link = body(f"arm{k}", link, eg.Revolute(f"arm{k}", axis=axis), (0.05, 0, 0.3))

@@ -1,12 +1,12 @@
 """Generated C functions as one CPython extension module: compiled with the machine's C compiler,
-cached by a hash of the source (and of the compiler flags, the CPU, Python and NumPy it was built for),
-and imported. Each function `e<i>` is exposed twice: `m<i>(q, u=None, ud=None, p=None, out=None)` returns
-the output matrix (rows, cols), `v<i>` the column as a vector (rows,), written into `out` when given;
-q of shape (nq,) is one state, (N, nq) is N states evaluated in one C loop with the GIL released, over
+cached by a hash of the translation units and glue (`compile`; and of the compiler flags, the CPU,
+Python and NumPy it was built for), and imported. Each function `e<i>` is exposed twice:
+`m<i>(q, u=None, ud=None, p=None, out=None)` returns the output matrix (rows, cols), `v<i>` the column
+as a vector (rows,), written into `out` when given; q of shape (nq,) is one state, (N, nq) is N states evaluated in one C loop with the GIL released, over
 all cores for large N (OpenMP; OMP_NUM_THREADS=1 for one), W states at a time in vector registers by
 its vector function `w<i>` where there is one (`vector`: a second module, built by the hook `_hook` on
-the first batch and handed over by `_attach`). Inputs are checked in C with the messages of the NumPy backend (the
-argument named, shapes, NaN and infinities).
+the first batch and handed over by `_attach`). Inputs are checked in C with the messages of the NumPy
+backend (the argument named, shapes, NaN and infinities).
 
 The cache, $EOMGEN_CACHE or ~/.cache/eomgen, is created private to the user (mode 0o700). Its modules
 are loaded as code, so a folder that other users could write into is refused (world-writable, or owned
@@ -359,7 +359,7 @@ def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: 
     (`vector`)."""
     sizes = f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n#define NF {len(functions)}\n"
     parts = [sizes, PRELUDE, vector.TYPES, vector.DRIVER, EVALUATE]
-    table = [f'    {{"_attach", attach, METH_O, NULL}},', f'    {{"_hook", set_hook, METH_O, NULL}},']
+    table = ['    {"_attach", attach, METH_O, NULL},', '    {"_hook", set_hook, METH_O, NULL},']
     for i, (source, (rows, cols), trig) in enumerate(functions):
         parts.append(source)  # static functions (`numpy_backend.C_TRIG`)
         parts.append(f"static const int t{i}[] = {{{', '.join(map(str, trig or [0]))}}};\n")
@@ -420,11 +420,11 @@ def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_par
     shapes = [(shape, trig) for _, shape, trig in functions]
 
     def make(name: str, target: Path) -> None:
-        glue = module_source(name, [(header if i == 0 else "", shape, trig) for i, (shape, trig) in enumerate(shapes)],
-                             nq, nv, n_params)
-        compile_module(glue, units, target)
+        entries = [(header if i == 0 else "", shape, trig) for i, (shape, trig) in enumerate(shapes)]
+        compile_module(module_source(name, entries, nq, nv, n_params), units, target)
 
-    return compiled((PRELUDE, vector.TYPES, vector.DRIVER, EVALUATE, header, layout, shapes, nq, nv, n_params), make)
+    content = (PRELUDE, vector.TYPES, vector.DRIVER, EVALUATE, header, layout, shapes, nq, nv, n_params)
+    return compiled(content, make)
 
 
 def compiled(content, make: Callable[[str, Path], None]):

@@ -263,7 +263,8 @@ class FunctionWriter:
                                                                   ji=j * cols + i), 0))
         trig_lines = self._trig(trig, syntax.vector_trig)
         if "_tq" in trig_lines:  # the vector loops come first; parts pass their values on through X
-            statements = [(None if v == "_tq" else v, line, 0) for v, line in trig_lines.items()] + statements
+            loops = [(None if v == "_tq" else v, line, 0) for v, line in trig_lines.items()]
+            statements = loops + statements
         else:
             preamble.update(trig_lines)
         if syntax.segment and ops > SEGMENT:
@@ -273,8 +274,8 @@ class FunctionWriter:
         return "\n".join(lines) + "\n", (rows, cols), ops
 
     def _trig(self, trig: set, vectors: bool) -> dict[str, str]:
-        """The lines that compute sin and cos of the inputs: one call each, or, with `vectors` and two or more
-        coordinates, sin and cos of the coordinates in two loops over an array (`VECTOR_TRIG`)."""
+        """The lines that compute sin and cos of the inputs: one call each, or, with `vectors` and two or
+        more coordinates, sin and cos of the coordinates in two loops over an array (`VECTOR_TRIG`)."""
         syntax, lines = self.syntax, {}
         trig = sorted(trig, key=lambda t: self.trig[t])
         coordinates = sorted({t.args[0] for t in trig if t.args[0] in self._q_index}, key=self._q_index.get)
