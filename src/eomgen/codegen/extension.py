@@ -2,11 +2,12 @@
 cached by a hash of the translation units and glue (`compile`; and of the compiler flags, the CPU,
 Python and NumPy it was built for), and imported. Each function `e<i>` is exposed twice:
 `m<i>(q, u=None, ud=None, p=None, out=None)` returns the output matrix (rows, cols), `v<i>` the column
-as a vector (rows,), written into `out` when given; q of shape (nq,) is one state, (N, nq) is N states evaluated in one C loop with the GIL released, over
-all cores for large N (OpenMP; OMP_NUM_THREADS=1 for one), W states at a time in vector registers by
-its vector function `w<i>` where there is one (`vector`: a second module, built by the hook `_hook` on
-the first batch and handed over by `_attach`). Inputs are checked in C with the messages of the NumPy
-backend (the argument named, shapes, NaN and infinities).
+as a vector (rows,), written into `out` when given; q of shape (nq,) is one state, (N, nq) is N states
+evaluated in one C loop with the GIL released, over all cores for large N (OpenMP; OMP_NUM_THREADS=1
+for one), W states at a time in vector registers by its vector function `w<i>` where there is one
+(`vector`: a second module, built by the hook `_hook` on the first batch and handed over by `_attach`).
+Inputs are checked in C with the messages of the NumPy backend (the argument named, shapes, NaN and
+infinities).
 
 The cache, $EOMGEN_CACHE or ~/.cache/eomgen, is created private to the user (mode 0o700). Its modules
 are loaded as code, so a folder that other users could write into is refused (world-writable, or owned
