@@ -21,7 +21,7 @@ from .kinematic_functions import placement
 from .module import outputs
 from .numpy_backend import C, C_TRIG, VECTOR_TRIG
 from .parameters import Parameters
-from .vector import C_VECTOR, TYPES, lanes_source, vector_source
+from .vector import C_VECTOR, TYPES, lanes_source, vector_sources
 
 
 class CompiledEoM(CompiledDerivatives, NumericEoM):
@@ -55,8 +55,8 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
             written.append((key, source, shape, ops, self._c.trig_indices))
 
         def lanes() -> list[str | None]:  # on the first batch
-            printing = enumerate(progress(exprs, "printing vector C", unit="function"))
-            return [vector_source(self._lanes, f"w{i}", expr, sym) for i, (expr, sym) in printing]
+            printing = progress(exprs, "printing vector C", unit="function")
+            return vector_sources(self._lanes, printing, len(exprs))
         self.functions.update(extension_functions(written, self.nq, self.nv, len(self.params), lanes))
 
     def _pvec(self, params, key) -> list[float] | np.ndarray | None:
@@ -92,7 +92,7 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
 def extension_functions(written: list, nq: int, nv: int, n_params: int,
                         lanes: Callable[[], list[str | None]] | None = None) -> dict[str, Generated]:
     """The written functions [(key, C source of e<i>, shape, operations, trig indices)], compiled into
-    one extension module; with `lanes`, the C of their vector functions w<i> (`vector.vector_source`),
+    one extension module; with `lanes`, the C of their vector functions w<i> (`vector.vector_sources`),
     compiled into a second module on the first batch."""
     module = build([(source, shape, trig) for _, source, shape, _, trig in written], nq, nv, n_params)
 
@@ -157,8 +157,8 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
         named = "".join(f"\n *   row {r}: {comment(row)}" for r, row in enumerate(names))
         decls.append(f"/* {comment(what)}{named}\n * out: {rows} x {cols}, row-major; reads "
                      f"{used or 'nothing'} */\n{C.header.format(name=f'{name}_{key}').split(chr(10))[0]};")
-    written = {key: source for key, (source, _, _) in sources.items()}
-    if derivatives and (forward := plain_function(eom, name, written)):
+    texts = {key: source for key, (source, _, _) in sources.items()}
+    if derivatives and (forward := plain_function(eom, name, texts)):
         body.append(forward[0])
         decls.append(forward[1])
     c_path, h_path = directory / f"{name}.c", directory / f"{name}.h"

@@ -18,7 +18,7 @@ from ..errors import ModelError
 from . import reads
 from .numpy_backend import C, C_TRIG, Syntax
 from .derivative_functions import efforts, forward_dynamics, forward_key, forward_parts, jacobians
-from .vector import vector_source
+from .vector import vector_sources
 
 TEMPLATE = r"""/* A = Lᵀ L in place on A's lower triangle (row-major, @lda@ columns), L lower triangular;
    0 unless A is positive definite */
@@ -199,8 +199,8 @@ class CompiledDerivatives:
         written, exprs = [], []
         for i, key in enumerate(keys):
             self._built.setdefault(key, (build[key], False))  # for `reference`
-            exprs.append(build[key]())
-            source, shape, ops = self._c.source(f"e{i}", exprs[-1])
+            exprs.append((build[key](), False))
+            source, shape, ops = self._c.source(f"e{i}", *exprs[-1])
             written.append((key, source, shape, ops, self._c.trig_indices))
         if forward_dynamics(eom):
             parts, jacobian = written[-1], written[keys.index(forward_key(eom))]
@@ -210,8 +210,7 @@ class CompiledDerivatives:
             )
             written.append(("FD_derivatives", source, (self.nv, 3 * self.nv), parts[3] + jacobian[3], trig))
         def lanes() -> list[str | None]:  # on the first batch; FD_derivatives's loop stays scalar
-            vectors = [vector_source(self._lanes, f"w{i}", expr, False) for i, expr in enumerate(exprs)]
-            return vectors + [None] * (len(written) - len(exprs))
+            return vector_sources(self._lanes, exprs, len(written))
 
         functions = extension_functions(written, self.nq, self.nv, len(self.params), lanes)
         if forward_dynamics(eom):  # the parameters it reads are those of its parts

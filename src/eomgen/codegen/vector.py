@@ -304,12 +304,13 @@ def lanes_source(name: str, sources: list[str | None]) -> str:
     )
 
 
-def vector_source(writer: FunctionWriter, name: str, expr: sp.Basic, symmetric: bool) -> str | None:
-    """C of `name`, `expr` for W states at once by a writer of syntax `C_VECTOR`; None when `expr`
-    branches (the scalar batch loop evaluates it)."""
-    if branches(writer.sub, expr):
-        return None
-    return writer.source(name, expr, symmetric)[0]
+def vector_sources(writer: FunctionWriter, exprs, count: int) -> list[str | None]:
+    """C of w<i> for W states at once, from the (expr, symmetric) in turn, by a writer of syntax
+    `C_VECTOR`; None where an expr branches (the scalar batch loop evaluates it) and for the rest of the
+    `count` functions (those with no vector function)."""
+    sources = [None if branches(writer.sub, expr) else writer.source(f"w{i}", expr, symmetric)[0]
+               for i, (expr, symmetric) in enumerate(exprs)]
+    return sources + [None] * (count - len(sources))
 
 
 def branches(sub: Subexpressions, expr: sp.Basic) -> bool:

@@ -155,16 +155,16 @@ class Recursion:
                 below[b] += below[c]
         down = {}
         for k in self.bodies:  # parents first
-            ancestors = [a for a in self._ancestors(k) if dofs[a]]
-            above = sum(dofs[a] for a in ancestors)
+            edges = {a: n for n, a in enumerate(self._ancestors(k), 1) if dofs[a]}  # ancestor: edges up to it
+            above = sum(dofs[a] for a in edges)
             if not above:
                 down[k] = False
             elif down[k.parent]:
                 down[k] = above < below[k]
             else:
-                edges = self._ancestors(k).index(ancestors[-1]) + 1
-                moves = sum(dofs[a] * (self._ancestors(k).index(a) + 1) for a in ancestors)
-                down[k] = 42 * moves + 11 * below[k] * above < below[k] * (42 * edges + 2 * above)
+                moves = sum(dofs[a] * n for a, n in edges.items())
+                up = below[k] * (42 * max(edges.values()) + 2 * above)
+                down[k] = 42 * moves + 11 * below[k] * above < up
         return down
 
     def _ancestors(self, b) -> list:
