@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import ModelError
+from .xml_read import read_xml
 
 _SKIPPED = ("include", "frame", "replicate", "attach", "composite", "flexcomp", "flex", "skin")
 _EQUALITIES = ("connect", "weld")
@@ -61,12 +62,7 @@ def _nonzero(element: ET.Element, name: str, count: int, owner: str) -> None:
 
 
 def _read(path: Path) -> ET.Element:
-    if not path.is_file():
-        raise ModelError(f"MJCF file not found: {path}")
-    try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        raise ModelError(f"cannot read MJCF {path}: {exc}") from None
+    root = read_xml(path, "MJCF").root
     if root.tag != "mujoco":
         raise ModelError(f"MJCF {path.name}: the root element is <{root.tag}>, not <mujoco>")
     return root

@@ -137,8 +137,6 @@ def parse_urdf(path, floating_base: bool = False, srdf=None, mimic: str = "mimic
     import pinocchio as pin
 
     path = Path(path)
-    if not path.is_file():
-        raise ModelError(f"URDF file not found: {path}")
     check_urdf(path, mimic)
     root = [pin.JointModelFreeFlyer()] if floating_base else []
     try:
