@@ -43,6 +43,7 @@ _NUMBER = re.compile(r"[ \t\n\v\f\r]*[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-
 _INERTIA = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 _AXIS_READ = ("revolute", "continuous", "prismatic", "planar")  # urdfdom ignores the axis of the others
 _ATTRIBUTE = re.compile(r"""([^\s=/>]+)\s*=\s*(?:"([^"]*)"|'([^']*)')""")
+_START_TAG = re.compile(rb"""<(?:[^"'>]|"[^"]*"|'[^']*')*>""")  # to the first '>' outside quotes
 _REFERENCE = re.compile(r"&(#x[0-9a-fA-F]+|#[0-9]+|lt|gt|amp|quot|apos);")
 _NAMED = {"lt": "<", "gt": ">", "amp": "&", "quot": '"', "apos": "'"}
 
@@ -65,17 +66,7 @@ def _raw_attributes(document: Document) -> dict[int, dict[str, str]]:
     newlines into spaces, which would hide values urdfdom cannot read)."""
     data, raw = document.data, {}
     for element, start in zip(document.root.iter(), document.starts):
-        end, quote = start, None
-        while end < len(data):  # the start tag ends at the first '>' outside quotes
-            c = data[end:end + 1]
-            if quote:
-                quote = None if c == quote else quote
-            elif c in (b'"', b"'"):
-                quote = c
-            elif c == b">":
-                break
-            end += 1
-        tag = data[start:end].decode("utf-8", errors="replace")
+        tag = _START_TAG.match(data, start).group().decode("utf-8", errors="replace")
         raw[id(element)] = {m.group(1): _tinyxml(m.group(2) if m.group(2) is not None else m.group(3))
                             for m in _ATTRIBUTE.finditer(tag)}
     return raw
@@ -261,8 +252,9 @@ def _check_mimics(path: Path, root: ET.Element, read: _Reader, mimic: str,
 
 def check_urdf(path: Path, mimic: str = "mimic") -> None:
     """Refuse what `read_xml` refuses (DTDs, entities, deep nesting), a chain deeper than MAX_CHAIN
-    joints, any inertial number, origin, axis or mimic number urdfdom would not read (or would drop), an `<inertial>` without mass or inertia, a negative mass, a planar joint whose plane is
-    not the joint frame's xy plane, and mimic joints that cannot be followed (`_check_mimics`);
+    joints, any inertial number, origin, axis or mimic number urdfdom would not read (or would drop),
+    an `<inertial>` without mass or inertia, a negative mass, a planar joint whose plane is not the
+    joint frame's xy plane, and mimic joints that cannot be followed (`_check_mimics`);
     mimic="independent" imports them as independent joints (as Pinocchio's default model has them)
     with a warning naming them, mimic="refuse" refuses them. A fixed joint's `<mimic>` moves nothing."""
     if mimic not in MIMIC:
