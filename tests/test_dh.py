@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import mpmath
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -14,7 +15,7 @@ from hypothesis import strategies as st
 
 import eomgen as eg
 import strategies as S
-from eomgen.model import dh_tables
+from eomgen.model import dh, dh_tables
 from models import matrices_trig_equal, random_inertia
 
 
@@ -381,3 +382,28 @@ def test_example_runs(capsys):
     runpy.run_path(str(Path(__file__).parents[1] / "examples" / "dh_puma560.py"), run_name="__main__")
     out = capsys.readouterr().out
     assert "worst relative error" in out and ": OK (tolerance" in out and "J dh6" in out
+
+
+def test_huge_float_angles_are_not_snapped():
+    """alpha = 1e17 is no multiple of π/2 (its float64 cos is −0.886, numpy's): eomgen used to snap
+    every angle above ~1e15 to one, here making Rx(alpha) the identity."""
+    for alpha, offset in ((1e17, 0.0), (0.3, -2.5e15), (1e100, 1e-300)):
+        system = eg.from_dh([eg.DHLink(d=0, a=0, alpha=alpha, offset=offset, mass=1)])
+        R = np.array(system.frames["dh1"].placement.rotation, float)
+        np.testing.assert_allclose(R, pin.utils.rotate("x", alpha), rtol=0, atol=1e-15)
+        np.testing.assert_allclose(np.array(system.bodies[0].placement.rotation, float),
+                                   pin.utils.rotate("z", offset), rtol=0, atol=1e-15)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.one_of(S._floats(-1.8e308, 1.8e308), S._floats(-1e20, 1e20), st.builds(
+    lambda k, e: k * math.pi / 2 + e, st.integers(-10**6, 10**6), S._floats(-1e-9, 1e-9))))
+def test_float_angles_give_float64_cos_and_sin(angle):
+    """cos and sin of any float angle are numpy's (the float's own value) to within the snap tolerance:
+    a float within 1e-12 of k π/2 gives the exact 0, ±1, any other its cos and sin."""
+    c, s = dh.cos_sin(sp.Float(angle))
+    assert abs(float(c) - np.cos(angle)) <= dh.SNAP and abs(float(s) - np.sin(angle)) <= dh.SNAP
+    with mpmath.workprec(1200):  # above the largest float's exponent, 2^1024
+        x = mpmath.mpf(angle)
+        near = abs(x - mpmath.nint(2 * x / mpmath.pi) * mpmath.pi / 2) < dh.SNAP
+    assert (c.is_Integer and s.is_Integer) == near

@@ -12,6 +12,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
+import mpmath
 import sympy as sp
 
 from ..errors import ModelError
@@ -140,10 +141,19 @@ def _compose(A: Placement, B: Placement) -> Placement:
 
 
 def cos_sin(angle: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
-    """(cos, sin) of an angle; a float within 1e-12 of k π/2 gives the exact 0, ±1 (math.pi / 2 would
+    """(cos, sin) of an angle; a float within SNAP of k π/2 gives the exact 0, ±1 (math.pi / 2 would
     leave 6e-17 where the table means 0)."""
-    if angle.is_number and angle.has(sp.Float):
-        k = round(float(angle) / (math.pi / 2))
-        if abs(float(angle) - k * math.pi / 2) < SNAP:
-            return sp.cos(k * sp.pi / 2), sp.sin(k * sp.pi / 2)
+    if angle.is_number and angle.has(sp.Float) and (k := _quarter_turns(angle)) is not None:
+        return sp.cos(k * sp.pi / 2), sp.sin(k * sp.pi / 2)
     return sp.cos(angle), sp.sin(angle)
+
+
+def _quarter_turns(angle: sp.Expr) -> int | None:
+    """k where |angle − k π/2| < SNAP, else None, the difference taken with the angle's binary exponent
+    and 64 bits more: in float64, every angle above 2^52 (whose spacing is 1 or more) is 'within' any
+    tolerance of a multiple of π/2, and alpha = 1e17 (cos −0.886) became the identity."""
+    bits = 64 + max(0, math.frexp(float(angle))[1])
+    with mpmath.workprec(bits):
+        x = mpmath.mpf(angle.evalf(math.ceil(bits * math.log10(2)) + 1))
+        k = int(mpmath.nint(2 * x / mpmath.pi))
+        return k if abs(x - k * mpmath.pi / 2) < SNAP else None
