@@ -142,3 +142,16 @@ def test_pinocchio_reads_files_at_the_limits(tmp_path):
         assert run.returncode == 0, run.stderr
         count, seconds, kilobytes = run.stdout.split()
         assert int(count) == joints and float(seconds) < 5 and int(kilobytes) < 1.2e6
+
+
+def test_files_that_are_not_utf8_are_refused_naming_the_byte(tmp_path):
+    """A UTF-16 file (expat decodes it, the checks' byte offsets and the C++ parsers do not) and a Latin-1
+    name are refused before any parser reads them."""
+    (tmp_path / "u.urdf").write_bytes(urdf().encode("utf-16"))
+    (tmp_path / "l.urdf").write_bytes(urdf().replace("name='r'", "name='r\xe9'").encode("latin-1"))
+    for name, byte in (("u.urdf", 0), ("l.urdf", 14)):
+        with pytest.raises(ModelError, match=rf"URDF {name}: byte {byte} is not UTF-8"):
+            eg.from_urdf(tmp_path / name)
+    (tmp_path / "u.xml").write_bytes(mjcf().encode("utf-16"))
+    with pytest.raises(ModelError, match=r"MJCF u.xml: byte 0 is not UTF-8"):
+        eg.from_mjcf(tmp_path / "u.xml")

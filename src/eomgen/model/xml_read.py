@@ -84,6 +84,11 @@ def read_xml(path: Path, kind: str) -> Document:
         data = path.read_bytes()
     except OSError as exc:
         raise ModelError(f"cannot read {kind} {path}: {exc}") from None
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ModelError(f"{kind} {path.name}: byte {exc.start} is not UTF-8; robot files are read as UTF-8 "
+                         "(the C++ parsers read no other encoding alike)") from None
     stream = _Stream(f"{kind} {path.name}")
     try:
         stream.parser.Parse(data, True)
