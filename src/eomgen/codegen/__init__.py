@@ -339,14 +339,16 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
     def _row_sizes(self, params) -> np.ndarray:
         """The size of each row of J_c (with J̇_c u) at three random states (`random_states`: unit
         quaternions), per parameter values; rows of size 0 (the z row of a loop in a plane mechanism;
-        round-off below 1e-12 of the largest row or of 1) no motion can violate."""
+        round-off below 1e-12 of the largest row or of 1; the normal row of a disk its tree keeps on the
+        ground, `grounded`) no motion can violate."""
         self._function("J_c", lambda: self.eom.kinematics.constraint_jacobian()[0])
         key = tuple(np.ravel(self._p(params, "J_c")))
         if key not in self._row_size:
             q, u, _ = random_states(self.eom.system, 3, np.random.default_rng(0))
             rows = [np.abs(self.contact_jacobian(q[k], params)).max(axis=1)
                     + np.abs(self.contact_jacobian_dot_u(q[k], u[k], params)) for k in range(3)]
-            size = np.max(rows, axis=0)
+            grounded = {d.row_names[2] for d in self.eom.kinematics.grounded_disks()}
+            size = np.where([r in grounded for r in self.constraint_rows], 0.0, np.max(rows, axis=0))
             self._row_size[key] = np.where(size > 1e-12 * max(1.0, size.max()), size, 0.0)  # round-off: 0
         return self._row_size[key]
 
