@@ -71,6 +71,11 @@ def tilt(kin, disk: Rolling) -> tuple[sp.Matrix, sp.Matrix, sp.Expr]:
     return e, w, kin.sub.add(sp.sqrt(dot(w, w)))
 
 
+def tilts(kin) -> sp.Matrix:
+    """s = |e × n| of every rolling disk (a column, `tilt`)."""
+    return sp.Matrix([tilt(kin, disk)[2] for disk in kin.system.rolling])
+
+
 def rolling_rows(kin, disk: Rolling) -> Rows:
     """The disk's height residual (1 row) and its three velocity rows (module formulas)."""
     body, sub = disk.body, kin.sub

@@ -9,11 +9,12 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from ..constraint_rows import tilts
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..methods.kane import KaneEquations
 from ..state import random_states
-from .contacts import contact_dynamics, support_projector
+from .contacts import contact_dynamics, refuse_flat, support_projector
 from .derivative_functions import DerivativeFunctions
 from .kinematic_functions import KinematicFunctions
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
@@ -355,8 +356,12 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
     def _held(self, q, params) -> tuple[np.ndarray, np.ndarray, list[str]]:
         """(mask, J, names) of the rows of J_c some motion can violate at q: they carry the forces; the
         others carry none. A row that vanishes only at q (below 1e-12 of its size, a singular configuration
-        of the constraint) is warned of; a row that is not finite (a rolling disk lying flat) refused."""
+        of the constraint) is warned of; a rolling disk lying (nearly) flat (`refuse_flat`) and a row that
+        is not finite refused."""
         names, size, J = self._contacts(), self._row_sizes(params), self.contact_jacobian(q, params)
+        if self.eom.system.rolling:
+            self._function("tilt", lambda: tilts(self.eom.kinematics))
+            refuse_flat(self.eom.system.rolling, self.call("tilt", q, params=params))
         broken = [n for n, row in zip(names, J) if not np.all(np.isfinite(row))]
         if broken:
             raise ModelError(f"constraint rows {broken} are not finite at this state (a rolling disk whose "

@@ -33,7 +33,7 @@ import sympy as sp
 from ..display import kane_markdown, kane_math
 from ..eom import ClosedForms, EquationsOfMotion
 from ..errors import ModelError
-from ..constraint_rows import rolling_rows
+from ..constraint_rows import rolling_rows, tilts
 from ..kinematics import Kinematics
 from ..model import FlexibleLink
 from ..model.system import System
@@ -54,7 +54,8 @@ class KaneEquations(ClosedForms):
     speeds w: "M" (n × n), "h" ([h | τ_loads − g], n × 2), "Y" ([Y | K | k0], n × (2n + 1)),
     "C" ([C | c0], m × (n + 1)), "rates" ([d/dt(Y u + K w + k0); d/dt(C w + c0)] at u̇ = 0, ẇ = 0) and
     "qdot" (q̇(q, u), nq × 1, `System.qdot`) and "holonomic" ([f | ∂f/∂q_dep], k × (k + 1), the
-    configuration constraints f(q) = 0 and their Jacobian in the dependent coordinates)."""
+    configuration constraints f(q) = 0 and their Jacobian in the dependent coordinates) and "tilt" (each
+    rolling disk's |e × n|, `constraint_rows.tilt`)."""
 
     system: System
     kinematics: Kinematics
@@ -347,7 +348,7 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
                "h": (eom.tau_compact - eom.compact["b"] + gravity).row_join(eom.tau_compact + gravity),
                "Y": Yn.row_join(sub.add_matrix(K)).row_join(sub.add_matrix(k0)),
                "C": sub.add_matrix(C).row_join(sub.add_matrix(c0)), "rates": rates, "qdot": system.qdot,
-               "holonomic": f.row_join(F_dep)}
+               "holonomic": f.row_join(F_dep), "tilt": tilts(kin)}
     return KaneEquations(system, kin, speeds, independent, dependent, compact, parameters, eom,
                          dependent_coordinates=dependent_coordinates, grounded=[d.name for d in grounded])
 
