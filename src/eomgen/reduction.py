@@ -72,9 +72,10 @@ class Reduced:
         return active
 
     def _repeating(self, size: np.ndarray, params) -> np.ndarray:
-        """The mask of the rows of J_c some motion can violate (`size` > 0, `_row_sizes`), less those that repeat rows
-        before them (`redundant_rows` of the rows scaled to size 1, at each of three random states: a loop
-        stated twice): dropped, with a warning naming them, as the constrained dynamics drop them."""
+        """The mask of the rows of J_c some motion can violate (`size` > 0, `_row_sizes`), less those that
+        repeat rows before them (`redundant_rows` of the rows scaled to size 1, at each of three random
+        states: a loop stated twice): dropped, with a warning naming them, as the constrained dynamics
+        drop them."""
         names, active = self.f.constraint_rows, size > 0
         q, _, _ = random_states(self.f.eom.system, 3, np.random.default_rng(1))
         repeated = set.intersection(*(

@@ -53,7 +53,8 @@ class NumericKane(KaneRefusals):
                  "tau_nc": nonconservative(kane.eom)}
         keys = [k for k in ("M", "h", "Y", "C", "rates", "qdot", "holonomic", "energy", "tau_nc", "tilt")
                 if (k != "C" or kane.dependent) and (k != "qdot" or not kane.joint_speeds_are_rates)
-                and (k != "holonomic" or kane.dependent_coordinates) and (k != "tilt" or kane.system.rolling)]
+                and (k != "holonomic" or kane.dependent_coordinates)
+                and (k != "tilt" or kane.system.rolling)]
         written = []
         for i, key in enumerate(keys):
             source, shape, ops = writer.source(f"e{i}", exprs[key], symmetric=key == "M")

@@ -312,7 +312,8 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     holonomic = list(holonomic or [])
     kin = Kinematics(system)
     grounded = kin.grounded_disks()
-    dependent_coordinates = _dependent_coordinates(system, holonomic, dependent_coordinates, speeds, grounded)
+    dependent_coordinates = _dependent_coordinates(system, holonomic, dependent_coordinates, speeds,
+                                                   grounded)
     independent = speeds if independent is None else _symbols(independent, "independent")
     unknown = [s for s in independent if s not in speeds]
     if unknown:
