@@ -234,3 +234,15 @@ def test_example_runs():
     import runpy
 
     runpy.run_path(str(Path(__file__).parents[1] / "examples" / "four_bar.py"), run_name="__main__")
+
+
+def test_loop_stated_twice_is_dropped_with_a_warning():
+    """The loop closed twice: `reduce` drops the repeated rows with a warning naming them (as the
+    constrained dynamics do; was "name -1 independent speeds") and gives the hand closed form J(θ)."""
+    system = four_bar()
+    system.add_loop("coupler_end", "rocker_end", kind="revolute", name="again")
+    eom = eg.derive(system, method="recursive")
+    q = closed_form(0.7)
+    with pytest.warns(UserWarning, match=r"reduce: constraint rows \['again.x', 'again.y'\] repeat other"):
+        reduced = eg.reduce(eom, ["th1"])
+    assert reduced.M(q)[0, 0] == pytest.approx(hand()["J"](*_angles(q)), rel=1e-12)

@@ -10,9 +10,13 @@ Loop between frames a and b (world axes, J = J_a − J_b in the constrained dire
 
 Rolling disk (centre p, axle e = R axis, ground normal n and tangents t1, t2, height h = n · p_ground)::
 
-    c = ρ d / |d|, d = (e · n) e − n (toward the ground in the disk's plane), r = n · (p + c) − h,
+    c = ρ d / s,  d = e × (e × n) = (e · n) e − n (toward the ground in the disk's plane),
+    s = |e × n| = |d| (the sine of the axle's angle to the normal),  r = n · (p + c) − h = n · p − ρ s − h,
     v = v_p + ω × c (the disk's material point at the contact), J = [t1; t2; n] (J_P + J_R × c),
-    J̇u = [t1; t2; n] (a_p + α × c + ω × ċ), ċ = ∂c/∂q q̇."""
+    J̇u = [t1; t2; n] (a_p + α × c + ω × ċ), ċ = ∂c/∂q q̇.
+
+d and s are written with cross products, not as (e · n) e − n and √(1 − (e · n)²): near lying flat
+(e · n → ±1) those lose the digits of 1 − (e · n)² (1e-5 relative at 1e-6 rad), the products do not."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -59,17 +63,28 @@ def loop_rows(kin, loop: Loop) -> Rows:
     return Rows(residual, J[[0, 1, 2, 6, 7], :], Jdot_u[[0, 1, 2, 6, 7], :])
 
 
+def tilt(kin, disk: Rolling) -> tuple[sp.Matrix, sp.Matrix, sp.Expr]:
+    """(e, e × n, s): the disk's axle e = R axis (world axes), and s = |e × n|, the sine of its angle to
+    the ground normal n (0: lying flat, no contact point)."""
+    e = kin.sub.add_matrix(matmul(kin.R[disk.body], disk.axis))
+    w = kin.sub.add_matrix(cross(e, disk.ground.rotation[:, 2]))
+    return e, w, kin.sub.add(sp.sqrt(dot(w, w)))
+
+
+def tilts(kin) -> sp.Matrix:
+    """s = |e × n| of every rolling disk (a column, `tilt`)."""
+    return sp.Matrix([tilt(kin, disk)[2] for disk in kin.system.rolling])
+
+
 def rolling_rows(kin, disk: Rolling) -> Rows:
     """The disk's height residual (1 row) and its three velocity rows (module formulas)."""
     body, sub = disk.body, kin.sub
     G = disk.ground.rotation
     n, tangents = G[:, 2], [G[:, 0], G[:, 1]]
-    e = sub.add_matrix(matmul(kin.R[body], disk.axis))
-    en = sub.add(dot(e, n))
-    d = e * en - n
-    c = sub.add_matrix(d * (disk.radius / sp.sqrt(1 - en ** 2)))
+    e, w, s = tilt(kin, disk)
+    c = sub.add_matrix(cross(e, w) * (disk.radius / s))
     origin = Point(body, sp.zeros(3, 1))
-    residual = sp.Matrix([dot(n, kin.p[body] + c) - dot(n, disk.ground.translation)])
+    residual = sp.Matrix([dot(n, kin.p[body]) - disk.radius * s - dot(n, disk.ground.translation)])
     J_P, J_R = kin.J_P(origin), kin.J_R(body)
     v = sp.Matrix.hstack(*(J_P[:, j] + cross(J_R[:, j], c) for j in range(kin.n)))
     a = kin.Jdot_u_P(origin) + cross(kin.Jdot_u_R(body), c) + cross(kin.omega(body), kin.time_derivative(c))

@@ -11,6 +11,7 @@ import sympy as sp
 
 from .constraint_rows import constraint_rows
 from .errors import ModelError
+from .grounded import grounded
 from .linalg import cross, dot, matmul, scale
 from .model import FlexibleLink, Placement
 from .model.loads import Point
@@ -215,6 +216,14 @@ class Kinematics:
     def closure_residual(self) -> sp.Matrix:
         """The position residuals of the loops and rolling disks (`System.closure_rows`), 0 when closed."""
         return self._cached("constraints", lambda: constraint_rows(self)).residual
+
+    def grounded_disks(self) -> list:
+        """The rolling disks whose tree keeps them on the ground (`grounded`): their height residual and
+        normal row are zero at every state with the centre above the ground."""
+        def build():
+            disks, r = self.system.rolling, self.closure_residual()
+            return grounded(self, dict(zip(disks, r[r.rows - len(disks):, 0])))
+        return self._cached("grounded", build)
 
     # --- helpers ------------------------------------------------------------------------------
     def _frame(self, name: str):

@@ -16,10 +16,13 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+import warnings
+
 from .assembly import numeric, speed_indices
-from .codegen.contacts import RANK_RTOL
+from .codegen.contacts import RANK_RTOL, redundant_rows
 from .codegen.parameters import actuated
 from .errors import ModelError
+from .state import random_states
 
 SYMBOLIC_LIMIT = 3  # dependent speeds up to which J_d⁻¹ is written by its adjugate
 
@@ -49,12 +52,18 @@ class Reduced:
         self.dependent = [i for i in range(self.f.nv) if i not in self.independent]
         self.u_independent = [system.u[i] for i in self.independent]
         self._forms: dict[bool, ReducedForms] = {}
+        self._kept: dict[tuple, np.ndarray] = {}  # `_rows` per parameter values
         if not system.parameters:  # else checked with the first call's params
             self._rows(None)
 
     def _rows(self, params) -> np.ndarray:
-        """The rows of J_c some motion can violate, one per dependent speed (refused otherwise)."""
-        active = self.f._row_sizes(params) > 0
+        """The rows of J_c some motion can violate and that repeat none before them (`_repeating`), one per
+        dependent speed (refused otherwise)."""
+        size = self.f._row_sizes(params)
+        key = tuple(np.ravel(self.f._p(params, "J_c")))
+        if key not in self._kept:
+            self._kept[key] = self._repeating(size, params)
+        active = self._kept[key]
         if active.sum() != len(self.dependent):
             rows = [n for n, a in zip(self.f.constraint_rows, active) if a]
             raise ModelError(f"reduce: {len(rows)} constraint rows ({rows}) but {len(self.dependent)} "
@@ -62,10 +71,28 @@ class Reduced:
                              f"{self.f.nv - len(rows)} independent speeds")
         return active
 
+    def _repeating(self, size: np.ndarray, params) -> np.ndarray:
+        """The mask of the rows of J_c some motion can violate (`size` > 0, `_row_sizes`), less those that
+        repeat rows before them (`redundant_rows` of the rows scaled to size 1, at each of three random
+        states: a loop stated twice): dropped, with a warning naming them, as the constrained dynamics
+        drop them."""
+        names, active = self.f.constraint_rows, size > 0
+        q, _, _ = random_states(self.f.eom.system, 3, np.random.default_rng(1))
+        repeated = set.intersection(*(
+            set(redundant_rows(A, RANK_RTOL * max(1.0, np.linalg.norm(A, 2))))
+            for A in (self.f.contact_jacobian(x, params)[active] / size[active, None] for x in q)))
+        dropped = [int(i) for k, i in enumerate(np.flatnonzero(active)) if k in repeated]
+        if dropped:
+            warnings.warn(f"reduce: constraint rows {[names[i] for i in dropped]} repeat other constraints "
+                          "(at every random state): dropped", stacklevel=4)
+            active[dropped] = False
+        return active
+
     def _J_d(self, q, params) -> tuple[np.ndarray, np.ndarray]:
         """(J_d, J_i), J_d refused when singular at q (naming the rows and speeds it cannot resolve)."""
-        self._rows(params)
-        _, J, rows = self.f._held(q, params)
+        kept = self._rows(params)
+        held, J, rows = self.f._held(q, params)
+        J, rows = J[kept[held]], [r for r, k in zip(rows, kept[held]) if k]
         J_d = J[:, self.dependent]
         if J_d.shape[0] < J_d.shape[1]:
             raise ModelError(f"reduce: J_d is singular at this state: only rows {rows} can be violated "

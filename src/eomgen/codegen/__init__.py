@@ -9,11 +9,12 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from ..constraint_rows import tilts
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..methods.kane import KaneEquations
 from ..state import random_states
-from .contacts import contact_dynamics, support_projector
+from .contacts import contact_dynamics, refuse_flat, support_projector
 from .derivative_functions import DerivativeFunctions
 from .kinematic_functions import KinematicFunctions
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
@@ -339,22 +340,28 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
     def _row_sizes(self, params) -> np.ndarray:
         """The size of each row of J_c (with J̇_c u) at three random states (`random_states`: unit
         quaternions), per parameter values; rows of size 0 (the z row of a loop in a plane mechanism;
-        round-off below 1e-12 of the largest row or of 1) no motion can violate."""
+        round-off below 1e-12 of the largest row or of 1; the normal row of a disk its tree keeps on the
+        ground, `grounded`) no motion can violate."""
         self._function("J_c", lambda: self.eom.kinematics.constraint_jacobian()[0])
         key = tuple(np.ravel(self._p(params, "J_c")))
         if key not in self._row_size:
             q, u, _ = random_states(self.eom.system, 3, np.random.default_rng(0))
             rows = [np.abs(self.contact_jacobian(q[k], params)).max(axis=1)
                     + np.abs(self.contact_jacobian_dot_u(q[k], u[k], params)) for k in range(3)]
-            size = np.max(rows, axis=0)
+            grounded = {d.row_names[2] for d in self.eom.kinematics.grounded_disks()}
+            size = np.where([r in grounded for r in self.constraint_rows], 0.0, np.max(rows, axis=0))
             self._row_size[key] = np.where(size > 1e-12 * max(1.0, size.max()), size, 0.0)  # round-off: 0
         return self._row_size[key]
 
     def _held(self, q, params) -> tuple[np.ndarray, np.ndarray, list[str]]:
         """(mask, J, names) of the rows of J_c some motion can violate at q: they carry the forces; the
         others carry none. A row that vanishes only at q (below 1e-12 of its size, a singular configuration
-        of the constraint) is warned of; a row that is not finite (a rolling disk lying flat) refused."""
+        of the constraint) is warned of; a rolling disk lying (nearly) flat (`refuse_flat`) and a row that
+        is not finite refused."""
         names, size, J = self._contacts(), self._row_sizes(params), self.contact_jacobian(q, params)
+        if self.eom.system.rolling:
+            self._function("tilt", lambda: tilts(self.eom.kinematics))
+            refuse_flat(self.eom.system.rolling, self.call("tilt", q, params=params))
         broken = [n for n, row in zip(names, J) if not np.all(np.isfinite(row))]
         if broken:
             raise ModelError(f"constraint rows {broken} are not finite at this state (a rolling disk whose "

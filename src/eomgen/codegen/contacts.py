@@ -30,6 +30,23 @@ COND_LIMIT = 1e8  # κ beyond which a solve keeps fewer than half the digits (κ
 RANK_RTOL = 1e-10  # σ / σ_max below it (κ beyond 1e20): a row that repeats others
 
 
+FLAT = float(np.sqrt(np.finfo(float).eps))  # s = |e × n| below which a rolling disk counts as lying flat
+
+
+def refuse_flat(disks: list, s) -> None:
+    """Refuse a state where a rolling disk lies (nearly) flat: s = |e × n| (the sine of its axle's angle to
+    the ground normal, per disk; states along the first axes) below FLAT = √ε. Its contact point, the rim's
+    lowest point c = ρ e × (e × n) / s, turns by δe / s for a change δe of the axle: it keeps fewer than
+    half its digits there, and at s = 0 it is undefined."""
+    low = np.min(np.reshape(np.asarray(s, dtype=float), (-1, len(disks))), axis=0)
+    for disk, x in zip(disks, low):
+        if not x >= FLAT:  # NaN too
+            raise ModelError(f"rolling disk '{disk.name}' (body '{disk.body.name}') lies flat: "
+                             f"{np.arcsin(min(abs(x), 1.0)):.1e} rad from flat (its axle's angle to the "
+                             f"ground normal), below {FLAT:.1e} rad: the contact point, the rim's lowest "
+                             "point, keeps fewer than half its digits there and is undefined on a flat disk")
+
+
 def redundant_rows(A: np.ndarray, tol: float) -> list[int]:
     """Rows of a constraint matrix that are linear combinations of the rows before them (to `tol`)."""
     kept, redundant = np.zeros((0, A.shape[1])), []

@@ -17,6 +17,7 @@ from ..state import unit_quaternions
 from . import Generated, NumericEoM
 from .derivative_functions import KaneRefusals
 from .c_backend import CompiledEoM, extension_functions
+from .contacts import refuse_flat
 from .extension import compiler, python_headers
 from .numpy_backend import C_TRIG, PYTHON, FunctionWriter, compile_function
 from .parameters import Parameters, actuated
@@ -50,9 +51,10 @@ class NumericKane(KaneRefusals):
         self.S = np.array(kane.system.S.tolist(), dtype=float).reshape(-1, self.n)
         exprs = {**kane.compact, "energy": sp.Matrix([kane.eom.compact["T"], kane.eom.compact["U"]]),
                  "tau_nc": nonconservative(kane.eom)}
-        keys = [k for k in ("M", "h", "Y", "C", "rates", "qdot", "holonomic", "energy", "tau_nc")
+        keys = [k for k in ("M", "h", "Y", "C", "rates", "qdot", "holonomic", "energy", "tau_nc", "tilt")
                 if (k != "C" or kane.dependent) and (k != "qdot" or not kane.joint_speeds_are_rates)
-                and (k != "holonomic" or kane.dependent_coordinates)]
+                and (k != "holonomic" or kane.dependent_coordinates)
+                and (k != "tilt" or kane.system.rolling)]
         written = []
         for i, key in enumerate(keys):
             source, shape, ops = writer.source(f"e{i}", exprs[key], symmetric=key == "M")
@@ -87,6 +89,8 @@ class NumericKane(KaneRefusals):
         w[..., self._ind] = w_ind
         T[..., self._ind, np.arange(p)] = 1.0
         C_dep = None
+        if "tilt" in self.functions:
+            refuse_flat(self.kane.system.rolling, self._eval("tilt", q, params=params))
         if self._dep:
             Cc = self._eval("C", q, params=params)
             C_dep, C_ind = Cc[..., self._dep], Cc[..., self._ind]

@@ -33,7 +33,7 @@ import sympy as sp
 from ..display import kane_markdown, kane_math
 from ..eom import ClosedForms, EquationsOfMotion
 from ..errors import ModelError
-from ..constraint_rows import rolling_rows
+from ..constraint_rows import rolling_rows, tilts
 from ..kinematics import Kinematics
 from ..model import FlexibleLink
 from ..model.system import System
@@ -54,7 +54,8 @@ class KaneEquations(ClosedForms):
     speeds w: "M" (n × n), "h" ([h | τ_loads − g], n × 2), "Y" ([Y | K | k0], n × (2n + 1)),
     "C" ([C | c0], m × (n + 1)), "rates" ([d/dt(Y u + K w + k0); d/dt(C w + c0)] at u̇ = 0, ẇ = 0) and
     "qdot" (q̇(q, u), nq × 1, `System.qdot`) and "holonomic" ([f | ∂f/∂q_dep], k × (k + 1), the
-    configuration constraints f(q) = 0 and their Jacobian in the dependent coordinates)."""
+    configuration constraints f(q) = 0 and their Jacobian in the dependent coordinates) and "tilt" (each
+    rolling disk's |e × n|, `constraint_rows.tilt`)."""
 
     system: System
     kinematics: Kinematics
@@ -65,6 +66,7 @@ class KaneEquations(ClosedForms):
     parameters: set = field(default_factory=set)  # the system's, constraints' and kinematic equations'
     eom: EquationsOfMotion | None = None  # the equations in the joint speeds u (M, b, g, τ, T, U)
     dependent_coordinates: list = field(default_factory=list)  # one per holonomic constraint
+    grounded: list = field(default_factory=list)  # rolling disks kept on the ground by the tree: no height
     _closed: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -282,8 +284,10 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     The system's rolling disks (`System.add_rolling`) are taken as they are: each disk's height residual
     joins the holonomic constraints after the given ones (name one dependent coordinate more per disk), the
     normal velocity of its contact point (J_n u) their derivatives, its two no-slip rows (J_t u) the
-    nonholonomic constraints after the given ones. So there are len(holonomic) + len(nonholonomic)
-    + 3 × disks dependent speeds. Constraints in the joint speeds u (ḟ, the disks' rows) are written in new
+    nonholonomic constraints after the given ones. A disk its tree keeps on the ground (`grounded`: the
+    textbook disk, leaning about the contact line) has neither height nor normal row (dropped: listed in
+    `KaneEquations.grounded`). So there are len(holonomic) + len(nonholonomic) + 3 × disks − grounded
+    dependent speeds. Constraints in the joint speeds u (ḟ, the disks' rows) are written in new
     speeds w through u = −Y⁻¹ (K w + k0) in closed form (pivots of Y proven nonzero; w = u needs none).
     Contacts and loops are refused (write a loop as holonomic constraints). The rhs integrates every q."""
     if not isinstance(system, System):
@@ -306,17 +310,20 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     kinematic_equations, (Y, K, k0) = _kinematic(kinematic_equations, u, speeds)
     nonholonomic = list(nonholonomic or [])
     holonomic = list(holonomic or [])
-    dependent_coordinates = _dependent_coordinates(system, holonomic, dependent_coordinates, speeds)
+    kin = Kinematics(system)
+    grounded = kin.grounded_disks()
+    dependent_coordinates = _dependent_coordinates(system, holonomic, dependent_coordinates, speeds,
+                                                   grounded)
     independent = speeds if independent is None else _symbols(independent, "independent")
     unknown = [s for s in independent if s not in speeds]
     if unknown:
         raise ModelError(f"kane: independent speeds {unknown} are not among the speeds {speeds}")
     dependent = [s for s in speeds if s not in independent]
     disks = len(system.rolling)
-    if len(dependent) != len(holonomic) + len(nonholonomic) + 3 * disks:
+    if len(dependent) != len(holonomic) + len(nonholonomic) + 3 * disks - len(grounded):
         raise ModelError(f"kane: {len(holonomic)} holonomic and {len(nonholonomic)} nonholonomic "
-                         f"constraints and {disks} rolling disks (3 rows each) need as many dependent "
-                         f"speeds, got {dependent}")
+                         f"constraints and {disks} rolling disks (3 rows each{_held(grounded, ', 2 for')}) "
+                         f"need as many dependent speeds, got {dependent}")
     for i, e in enumerate(nonholonomic):
         stray = sp.sympify(e).free_symbols & (set(u) - set(speeds))
         if stray:
@@ -326,7 +333,6 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     given = [*kinematic_equations, *nonholonomic, *holonomic]
     parameters = (system.parameters | set().union(*(sp.sympify(e).free_symbols for e in given))) - set(
         q + u + speeds)
-    kin = Kinematics(system)
     sub = kin.sub
     eom = projected_newton_euler.derive(kin)
     f, C, c0, constraint_rates = _constraints(kin, holonomic, nonholonomic, speeds, (Y, K, k0))
@@ -343,9 +349,15 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
                "h": (eom.tau_compact - eom.compact["b"] + gravity).row_join(eom.tau_compact + gravity),
                "Y": Yn.row_join(sub.add_matrix(K)).row_join(sub.add_matrix(k0)),
                "C": sub.add_matrix(C).row_join(sub.add_matrix(c0)), "rates": rates, "qdot": system.qdot,
-               "holonomic": f.row_join(F_dep)}
+               "holonomic": f.row_join(F_dep), "tilt": tilts(kin)}
     return KaneEquations(system, kin, speeds, independent, dependent, compact, parameters, eom,
-                         dependent_coordinates=dependent_coordinates)
+                         dependent_coordinates=dependent_coordinates, grounded=[d.name for d in grounded])
+
+
+def _held(grounded: list, prefix: str) -> str:
+    """', 2 for [names] (grounded: the tree keeps them on the ground)' or '' (messages)."""
+    names = [d.name for d in grounded]
+    return f"{prefix} {names}, which the tree keeps on the ground" if names else ""
 
 
 def _kinematic(equations, u: list, speeds: list) -> tuple[list, tuple]:
@@ -366,7 +378,8 @@ def _kinematic(equations, u: list, speeds: list) -> tuple[list, tuple]:
 
 
 def _constraints(kin: Kinematics, holonomic: list, nonholonomic: list, speeds: list, kinematic: tuple):
-    """(f, C, c0, rates): the holonomic residuals f(q) (the given ones, then each rolling disk's height)
+    """(f, C, c0, rates): the holonomic residuals f(q) (the given ones, then each rolling disk's height,
+    but the grounded disks')
     and the velocity constraints C w + c0 = 0 with their rates d/dt at ẇ = 0, stacked: ḟ = ∂f/∂q q̇(q, u)
     (the disks' J_n u), then the nonholonomic ones (the given ones, then the disks' no-slip J_t u)."""
     system, sub, n = kin.system, kin.sub, kin.n
@@ -374,9 +387,10 @@ def _constraints(kin: Kinematics, holonomic: list, nonholonomic: list, speeds: l
     F_q = configuration_jacobian(sub, f, kin.q)
     in_u = [(F_q * system.qdot.jacobian(kin.u), sp.zeros(f.rows, 1), None)]
     wheels = [rolling_rows(kin, disk) for disk in system.rolling]  # in u: (A, a0, rates of A u)
-    in_u += [(r.J[2:, :], sp.zeros(1, 1), r.Jdot_u[2:, :]) for r in wheels]
+    touching = [r for r, d in zip(wheels, system.rolling) if d not in kin.grounded_disks()]
+    in_u += [(r.J[2:, :], sp.zeros(1, 1), r.Jdot_u[2:, :]) for r in touching]
     slip = [(r.J[:2, :], sp.zeros(2, 1), r.Jdot_u[:2, :]) for r in wheels]
-    f = f.col_join(sp.Matrix(len(wheels), 1, [r.residual[0] for r in wheels]))
+    f = f.col_join(sp.Matrix(len(touching), 1, [r.residual[0] for r in touching]))
     rows = [(sp.zeros(0, n), sp.zeros(0, 1), sp.zeros(0, 1))]
     rows += _in_speeds(kin, in_u, speeds, kinematic) if f.rows else []
     if nonholonomic:
@@ -386,9 +400,10 @@ def _constraints(kin: Kinematics, holonomic: list, nonholonomic: list, speeds: l
     return (f, *(sp.Matrix.vstack(*(r[i] for r in rows)) for i in range(3)))
 
 
-def _dependent_coordinates(system: System, holonomic: list, coordinates, speeds: list) -> list[sp.Symbol]:
-    """The dependent coordinates, one per holonomic constraint and rolling disk, checked: symbols of q,
-    distinct; the constraints in q and parameters only."""
+def _dependent_coordinates(system: System, holonomic: list, coordinates, speeds: list,
+                           grounded: list) -> list[sp.Symbol]:
+    """The dependent coordinates, one per holonomic constraint and rolling disk but the `grounded` ones,
+    checked: symbols of q, distinct; the constraints in q and parameters only."""
     coordinates = [] if coordinates is None else _symbols(coordinates, "dependent_coordinates")
     for i, e in enumerate(holonomic):
         stray = e.free_symbols & (set(system.u) | set(speeds))
@@ -399,10 +414,11 @@ def _dependent_coordinates(system: System, holonomic: list, coordinates, speeds:
     strangers = [x for x in coordinates if x not in q]
     if strangers:
         raise ModelError(f"kane: dependent_coordinates {strangers} are not coordinates of the system {q}")
-    disks = [d.name for d in system.rolling]
+    disks = [d.name for d in system.rolling if d not in grounded]
     if len(set(coordinates)) != len(coordinates) or len(coordinates) != len(holonomic) + len(disks):
         raise ModelError(f"kane: {len(holonomic)} holonomic constraints and the rolling disks {disks} (one "
-                         f"height each) need as many distinct dependent_coordinates, got {coordinates}")
+                         f"height each{_held(grounded, '; none for')}) need as many distinct "
+                         f"dependent_coordinates, got {coordinates}")
     return sorted(coordinates, key=q.index)
 
 
