@@ -209,9 +209,9 @@ def check_mjcf(path) -> tuple[list[float] | None, list[Equality], list]:
     bodies = {b.get("name") for b in tree.iter("body")}
     sites = {s.get("name") for s in tree.iter("site")}
     equalities = [_equality(e, bodies, sites, owner) for group in root.findall("equality") for e in group]
-    names = [e.name for e in equalities]
-    for name in names:
-        if names.count(name) > 1:
+    named = [e.name for e in equalities]
+    for name in named:
+        if named.count(name) > 1:
             raise ModelError(f"{owner}: two equalities are named '{name}' (an unnamed one is named after "
                              "its bodies or sites), and Pinocchio's parser keeps one per name: name each of "
                              "them")
