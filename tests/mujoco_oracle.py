@@ -17,8 +17,8 @@ Centre of mass: eomgen's (as Pinocchio's centerOfMass) is that of the moving bod
 subtree_com of the world counts the bodies welded to it too. Compared: subtree_com of a floating root,
 else Σ m_i x_i / Σ m_i over the bodies not welded to the world (MuJoCo's body_mass, xipos).
 
-Names: an unnamed MuJoCo body is "<parent>Bis", an unnamed site the k-th of its body "<body>Site_<k>"
-(of the world: "worldSite_<k>"), as Pinocchio's parser and eomgen name them."""
+Names: an unnamed site is the k-th of its body "<body>Site_<k>" (of the world: "worldSite_<k>"), as
+Pinocchio's parser and eomgen name them (eomgen refuses unnamed bodies)."""
 from __future__ import annotations
 
 import mujoco
@@ -55,9 +55,7 @@ def mujoco_state(system, m, q, u):
 
 def names(m):
     """eomgen's names of MuJoCo's bodies (1 …) and sites."""
-    bodies = ["world"]
-    for i in range(1, m.nbody):
-        bodies.append(mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, i) or bodies[m.body_parentid[i]] + "Bis")
+    bodies = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, i) for i in range(m.nbody)]
     sites = []
     for i in range(m.nsite):
         b = m.site_bodyid[i]

@@ -2,10 +2,14 @@
 mapping), or refused with the element named."""
 from __future__ import annotations
 
+import re
 from importlib.resources import files
 from pathlib import Path
 
+import mujoco
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import eomgen as eg
 from eomgen.errors import ModelError
@@ -36,8 +40,9 @@ READ = {
     "sites on the fixed root": f"""{INERTIAL}<site name="s" pos="0.1 0.2 0.3" euler="10 20 30"/>
         <site pos="0 0 1" zaxis="0 -1 0"/><site name="x" xyaxes="0 1 0 -1 0.1 0"/>
         <body name="b" pos="0 0.1 0.3"><joint name="j1" axis="0 1 0"/>{INERTIAL}</body>""",
-    "unnamed chain": f"""<joint axis="1 0 0"/>{INERTIAL}<body pos="0 0.1 0.3"><joint axis="0 1 0"/>{INERTIAL}
-        <site/><body pos="0 0 0.2"><joint axis="0 0 1" pos="0 0.1 0"/>{INERTIAL}<site/></body></body>""",
+    "unnamed joints and sites": f"""<joint axis="1 0 0"/>{INERTIAL}<body name="b" pos="0 0.1 0.3"><joint
+        axis="0 1 0"/>{INERTIAL}<site/><body name="c"><joint axis="0 0 1" pos="0 0.1 0"/>{INERTIAL}<site/>
+        </body></body>""",
     "visual geoms beside an inertial": f"""<joint axis="1 0 0"/>{INERTIAL}
         <geom type="mesh" mesh="none" contype="0" conaffinity="0"/>""",
 }
@@ -65,8 +70,8 @@ def test_gravity_disabled(tmp_path):
 
 GEOM = '<geom type="sphere" size="0.1" mass="2"/>'
 REFUSED = {
-    "two unnamed siblings": (f'<joint name="a" axis="1 0 0"/>{INERTIAL}<body><joint axis="0 1 0"/>{INERTIAL}'
-                             f'</body><body><joint axis="1 0 0"/>{INERTIAL}</body>', "", "two bodies are named 'rBis'"),
+    "unnamed bodies": (f'<joint name="a" axis="1 0 0"/>{INERTIAL}<body><joint axis="0 1 0"/>{INERTIAL}'
+                             f'</body><body><joint axis="1 0 0"/>{INERTIAL}</body>', "", "body 1 inside body 'r' has no name"),
     "mesh inertia": ('<joint axis="1 0 0"/><geom name="g" type="mesh" mesh="m"/>',
                      '<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset>', "geom 'g': a mesh's"),
     "visual geom": (f'<joint axis="1 0 0"/>{GEOM}<geom name="v" class="visual" type="box" size="1 1 1"/>',
@@ -100,3 +105,66 @@ def test_refused_with_the_element(tmp_path, case):
     inside, top, message = REFUSED[case]
     with pytest.raises(ModelError, match=message):
         eg.from_mjcf(write(tmp_path, inside, top))
+
+
+def names(own: str) -> st.SearchStrategy:
+    """Mostly a name of its own, else none or one that other elements may have."""
+    return st.sampled_from([own, own, own, None, "a"])
+
+
+TURNS = st.sampled_from(["", ' euler="10 -20 30"', ' quat="0.9 0.1 -0.2 0.3"', ' axisangle="0 0.6 0.8 40"',
+                         ' xyaxes="0 1 0 -1 0 0.2"', ' zaxis="0 -1 0.1"'])
+POS = st.sampled_from(["", ' pos="0.1 -0.2 0.3"', ' pos="0 0 -0.25"'])
+INERTIAS = st.sampled_from([INERTIAL, '<geom type="capsule" fromto="0 0 0 0 0.1 -0.2" size="0.03"/>',
+                            '<geom type="box" size="0.1 0.05 0.02" pos="0 0 -0.1" mass="0.7"/>',
+                            '<geom class="heavy" type="sphere" size="0.05" pos="0.1 0 0"/>',
+                            '<geom class="visual" type="box" size="0.1 0.1 0.1"/><geom size="0.1"/>'])
+JOINTS = st.sampled_from(['type="hinge" axis="0.3 1 0.2"', 'type="slide" axis="0 0 1"', 'type="ball"', None])
+DEFAULTS = ('<default><joint armature="0.02"/><default class="heavy"><geom density="3000"/></default>'
+            '<default class="visual"><geom contype="0" conaffinity="0"/></default></default>')
+
+
+def name(value) -> str:
+    return f' name="{value}"' if value else ""
+
+
+@st.composite
+def mjcf_files(draw) -> str:
+    """A tree of 1 to 4 bodies: a free root (pos and a rotation) or a fixed one, named and unnamed bodies,
+    joints and sites, joints with pos, a site on every body, inertias given or from geoms of classes."""
+    free = draw(st.booleans())
+    pose = ' pos="0 0 1"' + draw(TURNS) if free else ""
+    bodies = [f'<body{name(draw(names("r")))}{pose}>' + ("<freejoint/>" if free else "") + INERTIAL
+              + f"<site{name(draw(names('s')))}{draw(POS)}{draw(TURNS)}/>"]
+    for i in range(draw(st.integers(1, 3))):
+        joint = draw(JOINTS)
+        joint = f"<joint{name(draw(names(f'j{i}')))} {joint}{draw(POS)}/>" if joint else ""
+        bodies.append(f"<body{name(draw(names(f'b{i}')))}{draw(POS)}{draw(TURNS)}>{joint}{draw(INERTIAS)}"
+                      f"<site{name(draw(names(f's{i}')))}{draw(POS)}{draw(TURNS)}/>")
+    nested = draw(st.booleans())
+    text = bodies[0] + ("".join(bodies[1:]) + "</body>" * len(bodies[1:]) if nested else
+                        "</body>".join(bodies[1:]) + "</body>")
+    world = f'<site{name(draw(names("w")))} pos="1 0 0"{draw(TURNS)}/>'
+    return f"<mujoco>{DEFAULTS}<worldbody>{world}{text}</body></worldbody></mujoco>"
+
+
+@settings(max_examples=30, deadline=None, derandomize=True, database=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(text=mjcf_files())
+def test_random_files_equal_mujoco_or_are_refused(tmp_path, text):
+    """Each file MuJoCo reads either equals MuJoCo or is refused with a ModelError that names an element
+    of the file; a file MuJoCo refuses is refused."""
+    path = tmp_path / "random.xml"
+    path.write_text(text)
+    try:
+        mujoco.MjModel.from_xml_path(str(path))
+    except ValueError:
+        with pytest.raises(ModelError):
+            eg.from_mjcf(path)
+        return
+    try:
+        eg.from_mjcf(path)
+    except ModelError as exc:
+        assert re.search(r"(body|joint|site|geom) '[^']+'|<default|the root body", str(exc)), str(exc)
+        return
+    assert_equals_mujoco(path, states=2)

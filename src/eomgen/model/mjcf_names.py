@@ -1,8 +1,8 @@
 """The names of an MJCF file's bodies, joints and sites as Pinocchio's parser gives them, and the clashes
 refused. MuJoCo keeps three namespaces; eomgen has one name per frame (bodies and sites, and the joint
-of a body whose joint has a `pos`: that eomgen body sits at the joint). The parser names an unnamed
-body "<parent>Bis", an unnamed joint "<body>Joint_0" (a freejoint "<body>_free") and the k-th site of a
-body "<body>Site_<k>"; two elements of one name would be one frame (or one body) for it."""
+of a body whose joint has a `pos`: that eomgen body sits at the joint). Bodies must have names; the
+parser names an unnamed joint "<body>Joint_0" (a freejoint "<body>_free") and the k-th site of a body
+"<body>Site_<k>"; two elements of one name would be one frame (or one body) for it."""
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
@@ -12,14 +12,17 @@ from ..errors import ModelError
 
 
 def body_names(root_body: ET.Element, owner: str) -> dict[ET.Element, str]:
-    """Every body of the tree by the parser's name (an unnamed root body refused)."""
+    """Every body of the tree by name; an unnamed one refused (Pinocchio's parser drops an unnamed root
+    body and one without attributes, with their joints, and names two unnamed siblings alike)."""
     if not root_body.get("name"):
-        raise ModelError(f"{owner}: the root body below <worldbody> has no name (Pinocchio's parser would "
-                         "drop it and its joint): give it one")
+        raise ModelError(f"{owner}: the root body below <worldbody> has no name: give it one")
     names = {root_body: root_body.get("name")}
     for parent in root_body.iter("body"):
-        for body in parent.findall("body"):
-            names[body] = body.get("name") or names[parent] + "Bis"
+        for k, body in enumerate(parent.findall("body")):
+            if not body.get("name"):
+                raise ModelError(f"{owner}: body {k + 1} inside body '{names[parent]}' has no name: give it "
+                                 "one (Pinocchio's parser drops or merges unnamed bodies)")
+            names[body] = body.get("name")
     return names
 
 
@@ -40,8 +43,8 @@ def check_names(names: dict[ET.Element, str], moved: set[ET.Element], owner: str
         twice = [n for n, k in Counter(listed).items() if k > 1]
         if twice:
             raise ModelError(f"{owner}: two {kind} are named '{twice[0]}' (Pinocchio's parser names an "
-                             "unnamed body '<parent>Bis', joint '<body>Joint_0', site '<body>Site_<k>') and "
-                             "would keep one: name each of them")
+                             "unnamed joint '<body>Joint_0', site '<body>Site_<k>') and would keep one: name "
+                             "each of them")
     for site in sites:
         if site in dict(joints) or site in names.values():
             what = "joint" if site in dict(joints) else "body"
