@@ -34,7 +34,8 @@ def write(tmp_path: Path, inside: str, top: str = "", world: str = "", name: str
 INERTIAL = '<inertial pos="0.01 0.02 0.1" mass="1.3" diaginertia="0.01 0.02 0.03"/>'
 READ = {
     "joint pos": f"""<joint name="j0" axis="1 0 0"/>{INERTIAL}<body name="b" pos="0 0.1 0.3">
-        <joint name="j1" axis="0 1 0" pos="0.02 0.03 -0.01"/>{INERTIAL}<site name="s" pos="0.1 0 0"/></body>""",
+        <joint name="j1" axis="0 1 0" pos="0.02 0.03 -0.01"/>{INERTIAL}<site name="s" pos="0.1 0 0"/>
+        </body>""",
     "rotated free root": f"""<freejoint name="f"/>{INERTIAL}<site name="s" pos="0.1 0 0" euler="10 0 0"/>
         <body name="b" pos="0 0.1 0.3"><joint name="j1" type="ball" pos="0.02 0 0"/>{INERTIAL}</body>""",
     "sites on the fixed root": f"""{INERTIAL}<site name="s" pos="0.1 0.2 0.3" euler="10 20 30"/>
@@ -71,11 +72,14 @@ def test_gravity_disabled(tmp_path):
 GEOM = '<geom type="sphere" size="0.1" mass="2"/>'
 REFUSED = {
     "unnamed bodies": (f'<joint name="a" axis="1 0 0"/>{INERTIAL}<body><joint axis="0 1 0"/>{INERTIAL}'
-                             f'</body><body><joint axis="1 0 0"/>{INERTIAL}</body>', "", "body 1 inside body 'r' has no name"),
+                       f'</body><body><joint axis="1 0 0"/>{INERTIAL}</body>', "",
+                       "body 1 inside body 'r' has no name"),
     "mesh inertia": ('<joint axis="1 0 0"/><geom name="g" type="mesh" mesh="m"/>',
-                     '<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset>', "geom 'g': a mesh's"),
+                     '<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset>',
+                     "geom 'g': a mesh's"),
     "visual geom": (f'<joint axis="1 0 0"/>{GEOM}<geom name="v" class="visual" type="box" size="1 1 1"/>',
-                    '<default><default class="visual"><geom contype="0" conaffinity="0"/></default></default>',
+                    '<default><default class="visual"><geom contype="0" conaffinity="0"/></default>'
+                    '</default>',
                     "body 'r': geom 'v': contype=0 and conaffinity=0"),
     "inertiagrouprange": (f'<joint axis="1 0 0"/>{GEOM}', '<compiler inertiagrouprange="0 2"/>',
                           "inertiagrouprange='0 2'"),

@@ -21,7 +21,7 @@ from ..errors import ModelError
 from .mjcf_defaults import Defaults, bodies as classed
 from .mjcf_inertia import check_inertias
 from .mjcf_names import body_names, check_names, site_names
-from .mjcf_pose import pose
+from .mjcf_pose import pose as element_pose
 
 _SKIPPED = ("include", "frame", "replicate", "attach", "composite", "flexcomp", "flex", "skin")
 _EQUALITIES = ("connect", "weld")
@@ -114,17 +114,17 @@ def _check_tree(root: ET.Element, owner: str) -> ET.Element:
         names = [b.get("name", "(unnamed)") for b in bodies]
         raise ModelError(f"{owner}: <worldbody> holds {len(bodies)} bodies {names}; Pinocchio's MJCF parser "
                          "reads one tree (the first body and what is below it): put them below one body")
-    posed = [a for a in ("pos", "quat", "euler", "axisangle", "xyaxes", "zaxis") if a in bodies[0].attrib]
-    if posed and not _joints(bodies[0]):
+    pose = [a for a in ("pos", "quat", "euler", "axisangle", "xyaxes", "zaxis") if a in bodies[0].attrib]
+    if pose and not _joints(bodies[0]):
         raise ModelError(f"{owner}: body '{bodies[0].get('name', '(unnamed)')}' is fixed to the world and "
-                         f"has {' and '.join(posed)}, which Pinocchio's parser drops: leave the root body at "
+                         f"has {' and '.join(pose)}, which Pinocchio's parser drops: leave the root body at "
                          "the world origin, unrotated (its children carry the offsets)")
     for body in bodies[0].iter("body"):
         where = f"{owner}: body '{body.get('name', '(unnamed)')}'"
-        for free in [j for j in body.findall("joint") if j.get("type") == "free"] + body.findall("freejoint"):
+        for free in [j for j in _joints(body) if j.tag == "freejoint" or j.get("type") == "free"]:
             if any(numbers(free, "pos", 3, where) or []):
-                raise ModelError(f"{where}: free joint pos={free.get('pos')!r}; MuJoCo ignores it, Pinocchio's "
-                                 "parser moves the body by it: remove it")
+                raise ModelError(f"{where}: free joint pos={free.get('pos')!r}; MuJoCo ignores it, "
+                                 "Pinocchio's parser moves the body by it: remove it")
         _nonzero(body, "gravcomp", 1, where)
         joints = _joints(body)
         if len(joints) > 1:
@@ -176,7 +176,7 @@ def _welded_sites(root: ET.Element, tree: ET.Element, names: dict, defaults: Def
     for body in [w for w in root.findall("worldbody")] + ([] if _joints(tree) else [tree]):
         cls = body.get("childclass", "main")
         for site, name in zip(body.findall("site"), site_names(body, names)):
-            welded.append((name, body is tree, *pose(lambda a: defaults.get(site, a, cls), compiler,
+            welded.append((name, body is tree, *element_pose(lambda a: defaults.get(site, a, cls), compiler,
                                                       f"{owner}: site '{name}'")))
     return welded
 

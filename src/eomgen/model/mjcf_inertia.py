@@ -16,11 +16,12 @@ from .mjcf_defaults import Defaults
 def _compiler(root: ET.Element, owner: str) -> dict[str, str]:
     """The attributes of `<compiler>`, refusing those that change inertias."""
     given = {k: v for c in root.findall("compiler") for k, v in c.attrib.items()}
-    unused = {"settotalmass": ("-1",), "boundmass": ("0",), "boundinertia": ("0",), "balanceinertia": ("false",)}
+    unused = {"settotalmass": ("-1",), "boundmass": ("0",), "boundinertia": ("0",),
+              "balanceinertia": ("false",)}
     for name, values in unused.items():
         if name in given and given[name].strip() not in values:
-            raise ModelError(f"{owner}: <compiler {name}={given[name]!r}> changes the masses or inertias and "
-                             "is not read by Pinocchio's parser (remove it and state the inertias)")
+            raise ModelError(f"{owner}: <compiler {name}={given[name]!r}> changes the masses or inertias "
+                             "and is not read by Pinocchio's parser (remove it and state the inertias)")
     return given
 
 
@@ -32,13 +33,14 @@ def check_inertias(root: ET.Element, bodies: list, defaults: Defaults, owner: st
     groups = compiler.get("inertiagrouprange", "0 5")
     if groups.split() != ["0", "5"] and any(b.find("inertial") is None and b.find("geom") is not None
                                              for b, _, _ in bodies):
-        raise ModelError(f"{owner}: <compiler inertiagrouprange={groups!r}> is not read by Pinocchio's parser "
-                         "(remove it, or give each body with geoms an <inertial>)")
+        raise ModelError(f"{owner}: <compiler inertiagrouprange={groups!r}> is not read by Pinocchio's "
+                         "parser (remove it, or give each body with geoms an <inertial>)")
     for body, cls, name in bodies:
         given, geoms = body.find("inertial") is not None, body.findall("geom")
         if geoms and (fromgeom == "true" and given or fromgeom == "false" and not given):
-            raise ModelError(f"{owner}: <compiler inertiafromgeom={fromgeom!r}> with body '{name}' (Pinocchio's "
-                             "parser takes the geoms' inertia exactly when a body has no <inertial>)")
+            raise ModelError(f"{owner}: <compiler inertiafromgeom={fromgeom!r}> with body '{name}' "
+                             "(Pinocchio's parser takes the geoms' inertia exactly when a body has no "
+                             "<inertial>)")
         if given or fromgeom == "false":
             continue
         for k, geom in enumerate(geoms):
@@ -47,11 +49,11 @@ def check_inertias(root: ET.Element, bodies: list, defaults: Defaults, owner: st
                 return defaults.get(geom, name, cls) or default
 
             if attribute("type", "sphere") == "mesh" or geom.get("mesh"):
-                raise ModelError(f"{where}: a mesh's inertia is not read (Pinocchio's parser would take mass 1 "
-                                 "and unit inertia): give the body an <inertial>")
+                raise ModelError(f"{where}: a mesh's inertia is not read (Pinocchio's parser would take "
+                                 "mass 1 and unit inertia): give the body an <inertial>")
             if attribute("contype", "1") == "0" and attribute("conaffinity", "1") == "0":
-                raise ModelError(f"{where}: contype=0 and conaffinity=0; MuJoCo counts its mass, Pinocchio's "
-                                 "parser drops it: give the body an <inertial>")
+                raise ModelError(f"{where}: contype=0 and conaffinity=0; MuJoCo counts its mass, "
+                                 "Pinocchio's parser drops it: give the body an <inertial>")
             if attribute("shellinertia", "false") == "true":
                 raise ModelError(f"{where}: shellinertia is not read by Pinocchio's parser: give the body "
                                  "an <inertial>")

@@ -37,14 +37,16 @@ def site_names(body: ET.Element, names: dict) -> list[str]:
 def check_names(names: dict[ET.Element, str], moved: set[ET.Element], owner: str) -> None:
     """Refuse two bodies, joints or sites of one name, a site named like a body or joint, and a joint
     with a `pos` (`moved`: its element) named like a body."""
-    joints = [(joint_name(b, j, names), j) for b in names for j in b.findall("joint") + b.findall("freejoint")]
+    joints = [(joint_name(b, j, names), j) for b in names
+              for j in b.findall("joint") + b.findall("freejoint")]
     sites = [s for b in names for s in site_names(b, names)]
-    for kind, listed in (("bodies", list(names.values())), ("joints", [n for n, _ in joints]), ("sites", sites)):
+    every = {"bodies": list(names.values()), "joints": [n for n, _ in joints], "sites": sites}
+    for kind, listed in every.items():
         twice = [n for n, k in Counter(listed).items() if k > 1]
         if twice:
             raise ModelError(f"{owner}: two {kind} are named '{twice[0]}' (Pinocchio's parser names an "
-                             "unnamed joint '<body>Joint_0', site '<body>Site_<k>') and would keep one: name "
-                             "each of them")
+                             "unnamed joint '<body>Joint_0', site '<body>Site_<k>') and would keep one: "
+                             "name each of them")
     for site in sites:
         if site in dict(joints) or site in names.values():
             what = "joint" if site in dict(joints) else "body"

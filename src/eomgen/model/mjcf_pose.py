@@ -30,7 +30,8 @@ def _values(attribute: Callable, name: str, where: str) -> list[float] | None:
 
 def pose(attribute: Callable[[str], str | None], compiler: dict[str, str], where: str
          ) -> tuple[np.ndarray, np.ndarray]:
-    """(R, p) in its body's frame of an element with these attributes (`attribute(name)`: the text or None)."""
+    """(R, p) in its body's frame of an element with these attributes (`attribute(name)`: its text or
+    None)."""
     if attribute("fromto") is not None:
         raise ModelError(f"{where}: fromto on a site welded to the world is not read (give pos and an "
                          "orientation)")
