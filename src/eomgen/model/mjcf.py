@@ -25,7 +25,7 @@ def parse_mjcf(path, floating_base: bool | None = None):
     import pinocchio as pin
 
     path = Path(path)
-    gravity, equalities = check_mjcf(path)
+    gravity, equalities, welded = check_mjcf(path)
     try:
         model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(path))
         free = model.njoints > 1 and model.joints[1].shortname() == "JointModelFreeFlyer"
@@ -37,6 +37,8 @@ def parse_mjcf(path, floating_base: bool | None = None):
     if floating_base is False and free:
         raise ModelError(f"MJCF {path.name}: joint '{model.names[1]}' is a free joint, but "
                          "floating_base=False (leave floating_base as None to take the file's free joint)")
+    if model.njoints > 1 and model.joints[1].shortname() == "JointModelFreeFlyer":
+        model.jointPlacements[1] = pin.SE3.Identity()  # MuJoCo's q is the body's pose (the parser: p − R p)
     if gravity is not None:
         model.gravity.linear = np.array(gravity)
     forces = (("damping", model.damping), ("frictionloss", model.friction))
@@ -46,7 +48,7 @@ def parse_mjcf(path, floating_base: bool | None = None):
     if passive:
         name, what, x = passive[0]
         raise ModelError(f"MJCF {path.name}: joint '{name}': {what} {x:g} {NOT_MODELLED}")
-    return model, _matched(model, constraints, equalities, path.name)
+    return model, _matched(model, constraints, equalities, path.name), welded
 
 
 def _frame(model, name: str, by: str):
@@ -106,8 +108,14 @@ def from_mjcf(path, floating_base: bool | None = None, strict: bool = True) -> S
     (see the module). Frames: the bodies and sites by name. floating_base: see `parse_mjcf`."""
     if floating_base not in (None, False, True):
         raise ModelError(f"floating_base must be None, False or True, got {floating_base!r}")
-    model, pairs = parse_mjcf(path, floating_base)
+    import pinocchio as pin
+
+    model, pairs, welded = parse_mjcf(path, floating_base)
     system = from_pinocchio(model, strict=strict)
+    for name, on_root, R, p in welded:  # the sites the parser drops
+        if name not in system.frames:
+            root = system.bodies[0] if on_root and not system.floating_base else None
+            system.add_frame(name, root, placement(pin.SE3(R, p)))
     body = {b.joint.name: b.name for b in system.bodies}
     for equality, c in pairs:
         frames = []

@@ -18,6 +18,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import ModelError
+from .mjcf_defaults import Defaults, bodies as classed
+from .mjcf_inertia import check_inertias
+from .mjcf_names import body_names, check_names, site_names
+from .mjcf_pose import pose as element_pose
 from .xml_read import read_xml
 
 _SKIPPED = ("include", "frame", "replicate", "attach", "composite", "flexcomp", "flex", "skin")
@@ -82,6 +86,12 @@ def _check_tree(root: ET.Element, owner: str) -> ET.Element:
         if element.tag == "joint" or element.tag == "default":
             for joint in [element] if element.tag == "joint" else element.findall("joint"):
                 _nonzero(joint, "stiffness", 1, f"{owner}: joint '{joint.get('name', '(default)')}'")
+                _nonzero(joint, "springdamper", 2, f"{owner}: joint '{joint.get('name', '(default)')}'")
+            for joint in element.findall("joint") if element.tag == "default" else []:
+                if any(numbers(joint, "pos", 3, f"{owner}: <default>") or []):
+                    raise ModelError(f"{owner}: <default class={element.get('class', 'main')!r}>: a joint "
+                                     "pos in a default class is not read by Pinocchio's parser (give it on "
+                                     "each joint)")
     for compiler in root.findall("compiler"):
         if compiler.get("eulerseq", "").lower() != compiler.get("eulerseq", ""):
             raise ModelError(f"{owner}: <compiler eulerseq={compiler.get('eulerseq')!r}>: Pinocchio's "
@@ -101,14 +111,18 @@ def _check_tree(root: ET.Element, owner: str) -> ET.Element:
         raise ModelError(f"{owner}: <worldbody> holds {len(bodies)} bodies {names}; Pinocchio's MJCF parser "
                          "reads one tree (the first body and what is below it): put them below one body")
     pose = [a for a in ("pos", "quat", "euler", "axisangle", "xyaxes", "zaxis") if a in bodies[0].attrib]
-    if pose and not bodies[0].findall("joint") + bodies[0].findall("freejoint"):
+    if pose and not _joints(bodies[0]):
         raise ModelError(f"{owner}: body '{bodies[0].get('name', '(unnamed)')}' is fixed to the world and "
                          f"has {' and '.join(pose)}, which Pinocchio's parser drops: leave the root body at "
                          "the world origin, unrotated (its children carry the offsets)")
     for body in bodies[0].iter("body"):
         where = f"{owner}: body '{body.get('name', '(unnamed)')}'"
+        for free in [j for j in _joints(body) if j.tag == "freejoint" or j.get("type") == "free"]:
+            if any(numbers(free, "pos", 3, where) or []):
+                raise ModelError(f"{where}: free joint pos={free.get('pos')!r}; MuJoCo ignores it, "
+                                 "Pinocchio's parser moves the body by it: remove it")
         _nonzero(body, "gravcomp", 1, where)
-        joints = body.findall("joint") + body.findall("freejoint")
+        joints = _joints(body)
         if len(joints) > 1:
             raise ModelError(f"{where} has {len(joints)} joints {[j.get('name', '') for j in joints]}; "
                              "eomgen takes one joint per body (put each joint on a body of its own)")
@@ -150,21 +164,51 @@ def _equality(element: ET.Element, bodies: set, sites: set, owner: str) -> Equal
     return Equality(name, "point" if kind == "connect" else "frame", by, first, second, key)
 
 
-def check_mjcf(path) -> tuple[list[float] | None, list[Equality]]:
+def _welded_sites(root: ET.Element, tree: ET.Element, names: dict, defaults: Defaults, owner: str) -> list:
+    """(name, on the root body, R, p) of the sites Pinocchio's parser drops: those of `<worldbody>` and of
+    a root body welded to the world (at the world's origin, unrotated: checked)."""
+    compiler = {k: v for c in root.findall("compiler") for k, v in c.attrib.items()}
+    welded = []
+    for body in [w for w in root.findall("worldbody")] + ([] if _joints(tree) else [tree]):
+        cls = body.get("childclass", "main")
+        for site, name in zip(body.findall("site"), site_names(body, names)):
+            welded.append((name, body is tree, *element_pose(lambda a: defaults.get(site, a, cls), compiler,
+                                                      f"{owner}: site '{name}'")))
+    return welded
+
+
+def _joints(body: ET.Element) -> list[ET.Element]:
+    return body.findall("joint") + body.findall("freejoint")
+
+
+def _gravity(root: ET.Element, owner: str) -> list[float] | None:
+    """`<option gravity>` (None if not given), zero where `<option><flag gravity="disable">`."""
+    if any(f.get("gravity") == "disable" for o in root.findall("option") for f in o.findall("flag")):
+        return [0.0, 0.0, 0.0]
+    gravity = [numbers(o, "gravity", 3, f"{owner}: <option>") for o in root.findall("option")]
+    return next((g for g in reversed(gravity) if g is not None), None)
+
+
+def check_mjcf(path) -> tuple[list[float] | None, list[Equality], list]:
     """Refuse what Pinocchio's MJCF parser would drop or misread and what eomgen does not model (see the
-    module); the gravity of `<option>` (None if not given) and the file's equalities."""
+    module); the gravity of `<option>` (None if not given), the file's equalities and the sites welded to
+    the world that the parser drops (`_welded_sites`)."""
     path = Path(path)
     root = _read(path)
     owner = f"MJCF {path.name}"
     tree = _check_tree(root, owner)
+    defaults = Defaults(root)
+    names = {w: "world" for w in root.findall("worldbody")} | body_names(tree, owner)
+    moved = {j for b in names for j in b.findall("joint") if any(numbers(j, "pos", 3, owner) or [])}
+    check_names(names, moved, owner)
+    check_inertias(root, [(b, cls, names[b]) for b, cls, _ in classed(tree)], defaults, owner)
     bodies = {b.get("name") for b in tree.iter("body")}
     sites = {s.get("name") for s in tree.iter("site")}
     equalities = [_equality(e, bodies, sites, owner) for group in root.findall("equality") for e in group]
-    names = [e.name for e in equalities]
-    for name in names:
-        if names.count(name) > 1:
+    named = [e.name for e in equalities]
+    for name in named:
+        if named.count(name) > 1:
             raise ModelError(f"{owner}: two equalities are named '{name}' (an unnamed one is named after "
                              "its bodies or sites), and Pinocchio's parser keeps one per name: name each of "
                              "them")
-    gravity = [numbers(o, "gravity", 3, f"{owner}: <option>") for o in root.findall("option")]
-    return next((g for g in reversed(gravity) if g is not None), None), equalities
+    return _gravity(root, owner), equalities, _welded_sites(root, tree, names, defaults, owner)

@@ -164,10 +164,11 @@ def from_pinocchio(model, gravity=None, strict: bool = True, base: str = "quater
     system = System(gravity=tuple(number(x) for x in (model.gravity.linear if gravity is None else gravity)),
                     strict=strict)
     frames = list(model.frames)
-    body_frame = {}  # joint index -> name of the link it moves
-    for f in frames:
+    body_frame = {}  # joint index -> name of the link it moves: the joint's own where the link is not at
+    for f in frames:  # the joint's frame (an MJCF joint with pos; the link is a frame on it then)
         if f.type == pin.FrameType.BODY and f.parentJoint not in body_frame:
-            body_frame[f.parentJoint] = f.name
+            at_joint = f.placement.isIdentity(1e-14)
+            body_frame[f.parentJoint] = f.name if at_joint else model.names[f.parentJoint]
     joints = [_joint(model, i, base) for i in range(1, model.njoints)]
     for i, (joint, _) in enumerate(joints, 1):
         if isinstance(joint, FreeFlyer) and model.parents[i] != 0:
