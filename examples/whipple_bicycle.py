@@ -1,5 +1,7 @@
 """The Whipple bicycle built from its parts: a rear frame on a free-flying base, the rear wheel, the front
-frame on the tilted steer axis, the front wheel, and two rolling contacts; the benchmark parameters of
+frame on the tilted steer axis, the front wheel, and two rolling contacts (`bicycle_on_rails`: the same
+bicycle with the rear frame on rails, yaw and roll about the rear contact line, sympy's and Moore's
+formulation, its rear wheel grounded by the tree); the benchmark parameters of
 Meijaard, Papadopoulos, Ruina and Schwab (2007). Linearized about upright running at speed v by finite
 differences of the generated right-hand side: the eigenvalues at v = 0 … 10 m/s and the weave and
 capsize speeds.
@@ -64,18 +66,11 @@ def inertia(body: str) -> sp.Matrix:
     return sp.Matrix([[I["xx"], 0, I["xz"]], [0, I["yy"], 0], [I["xz"], 0, I["zz"]]])
 
 
-def bicycle() -> tuple[eg.System, eg.KaneEquations]:
-    """The bicycle from its parts, in the benchmark's axes (x forward, y right, z down; gravity +z):
-    the rear frame B on a free-flying base (x, y, z, yaw, pitch, roll; origin at the rear wheel's
-    centre), the rear wheel R spinning about its axle y, the front frame H steering about the axis
-    tilted back by λ through the point at trail c ahead of the front contact, the front wheel F, and two
-    rolling disks. Kane's equations in the roll, steer and rear spin rates; z and the pitch follow from the
-    wheels' contacts (holonomic), the other speeds from rolling without slip."""
+def wheels_and_fork(system: eg.System, rear: eg.Body) -> None:
+    """Onto the rear frame `rear` (origin at the rear wheel's centre, axes as the benchmark's at upright):
+    the rear wheel R spinning about its axle y, the front frame H steering about the axis tilted back by
+    λ through the point at trail c ahead of the front contact, the front wheel F, and both rolling disks."""
     p = P
-    system = eg.System(gravity=(0, 0, p["g"]))
-    rear = system.add_body("rear_frame", joint=eg.FreeFlyer("rear", parametrization="euler"), mass=p["m_B"],
-                           com=(p["x_B"], 0, p["z_B"] + p["r_R"]),
-                           inertia=inertia("B"))
     rear_wheel = system.add_body("rear_wheel", parent=rear, joint=eg.Revolute("spin_R", axis=(0, 1, 0)),
                                  mass=p["m_R"], inertia=sp.diag(p["I_Rxx"], p["I_Ryy"], p["I_Rxx"]))
     steer = eg.Revolute("steer", axis=(sp.sin(p["lam"]), 0, sp.cos(p["lam"])))  # down the steer axis
@@ -88,18 +83,62 @@ def bicycle() -> tuple[eg.System, eg.KaneEquations]:
                                   mass=p["m_F"], inertia=sp.diag(p["I_Fxx"], p["I_Fyy"], p["I_Fxx"]))
     system.add_rolling(rear_wheel, radius=p["r_R"])
     system.add_rolling(front_wheel, radius=p["r_F"])
+
+
+def rear_frame(system: eg.System, parent, joint: eg.Joint, placement: eg.Placement | None = None) -> eg.Body:
+    """The rear frame B (origin at the rear wheel's centre) on `joint`."""
+    p = P
+    return system.add_body("rear_frame", parent=parent, joint=joint, placement=placement, mass=p["m_B"],
+                           com=(p["x_B"], 0, p["z_B"] + p["r_R"]), inertia=inertia("B"))
+
+
+def bicycle() -> tuple[eg.System, eg.KaneEquations]:
+    """The bicycle from its parts, in the benchmark's axes (x forward, y right, z down; gravity +z):
+    the rear frame B on a free-flying base (x, y, z, yaw, pitch, roll; origin at the rear wheel's
+    centre), then `wheels_and_fork`. Kane's equations in the roll, steer and rear spin rates; z and the
+    pitch follow from the wheels' contacts (holonomic), the other speeds from rolling without slip."""
+    system = eg.System(gravity=(0, 0, P["g"]))
+    wheels_and_fork(system, rear_frame(system, None, eg.FreeFlyer("rear", parametrization="euler")))
     x, y, z, yaw, pitch, roll, spin_R, delta, spin_F = system.q
     u = dict(zip(system.q, system.u))
     k = eg.kane(system, dependent_coordinates=[z, pitch], independent=[u[roll], u[delta], u[spin_R]])
     return system, k
 
 
+def bicycle_on_rails() -> tuple[eg.System, eg.KaneEquations]:
+    """The same bicycle in sympy's and Moore's formulation: rails x, y (the rear contact point), the yaw,
+    the roll about the rear contact line, the rear wheel's centre r_R above the contact along the leaned
+    frame's up axis (−z), the rear frame's pitch about the rear axle, then `wheels_and_fork`. The tree
+    keeps the rear wheel on the ground (its disk is grounded); only the front wheel's height is a
+    holonomic constraint, with the pitch dependent."""
+    system = eg.System(gravity=(0, 0, P["g"]))
+    parent = None
+    for name, axis in (("x", (1, 0, 0)), ("y", (0, 1, 0))):
+        parent = system.add_body(f"rail_{name}", parent=parent, joint=eg.Prismatic(name, axis=axis))
+    system.add_body("yawed", parent=parent, joint=eg.Revolute("yaw", axis=(0, 0, 1)))
+    system.add_body("leaned", parent="yawed", joint=eg.Revolute("roll", axis=(1, 0, 0)))
+    rear = rear_frame(system, "leaned", eg.Revolute("pitch", axis=(0, 1, 0)),
+                      eg.Placement(translation=(0, 0, -P["r_R"])))
+    wheels_and_fork(system, rear)
+    x, y, yaw, roll, pitch, spin_R, delta, spin_F = system.q
+    u = dict(zip(system.q, system.u))
+    k = eg.kane(system, dependent_coordinates=[pitch], independent=[u[roll], u[delta], u[spin_R]])
+    return system, k
+
+
 def accelerations(f, values: dict = BENCHMARK):
-    """(φ̈, δ̈)(x, v) of the generated equations `f` at x = (roll φ, steer δ, φ̇, δ̇), rolling at speed v:
-    q assembled (z and pitch from the contacts), w = (φ̇, δ̇, rear spin −v/r_R)."""
+    """(φ̈, δ̈)(x, v) of the generated equations `f` (either builder) at x = (roll φ, steer δ, φ̇, δ̇),
+    rolling at speed v: q assembled from φ, δ and zeros (the dependent coordinates from the contacts),
+    w = (φ̇, δ̇, rear spin −v/r_R). Roll and steer are the coordinates of the first two independent
+    speeds (u = q̇ on both trees)."""
+    k = f.kane
+    roll, steer = (list(k.system.u).index(speed) for speed in k.independent[:2])
+
     def at(x, v):
         phi, delta, phid, deltad = x
-        q = f.assemble(np.array([0, 0, -values["r_R"], 0, 0, phi, 0, delta, 0]), values)
+        guess = np.zeros(f.nq)
+        guess[[roll, steer]] = phi, delta
+        q = f.assemble(guess, values)
         return f.rhs(0.0, np.r_[q, phid, deltad, -v / values["r_R"]], params=values)[-3:-1]
     return at
 
