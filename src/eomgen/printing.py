@@ -19,7 +19,7 @@ from .symbols import Generated
 CUT = {"a": "a", "alpha": r"\alpha", "F": "F", "T": "T"}  # the free cut's accelerations and reactions
 SIMPLE_DENOMINATOR = 1000  # a fraction with a larger denominator is a decimal number from a file
 MATRICES = {"Jdot_c qdot": r"\dot{J}_{c} \dot{q}"}  # eomgen's own matrix symbols (the contacts' step)
-SIMPLE = re.compile(r"[A-Za-z]+\d*(_[A-Za-z0-9]{1,3}|_\{[A-Za-z0-9]{1,3}\})?")  # m, l_c1, phi: as sympy prints
+SIMPLE = re.compile(r"[A-Za-z]+\d*(_[A-Za-z0-9]{1,3}|_\{[A-Za-z0-9]{1,3}\})?")  # m, l_c1, phi: sympy's
 
 
 class Printer(LatexPrinter):

@@ -107,7 +107,8 @@ class Solution:
 
     def markdown(self, path=None, digits: int = 4) -> str:
         """The same as Markdown with $$ math; written to `path` if given."""
-        out = [f"# {markdown_text(self.title)}", "", "## The system", "", _description(self.system, "markdown", digits)]
+        out = [f"# {markdown_text(self.title)}", "", "## The system", ""]
+        out.append(_description(self.system, "markdown", digits))
         for section, steps in self._sections():
             out += ["", f"## {section}"]
             for step in steps:
