@@ -159,6 +159,22 @@ def test_markdown_and_jupyter_show_an_html_name_as_text():
     assert "<" not in eg.derive(system)._repr_latex_()
 
 
+def test_kane_display_and_solution_show_an_html_name_as_text(tmp_path):
+    """Kane's equations of a particle on the line x = a y whose dependent coordinate is named like an
+    HTML tag: the Jupyter display and the solution's Markdown have no tag; the PDF shows the body."""
+    m, a, g = sp.symbols("m a g", positive=True)
+    system = eg.System(gravity=(0, -g, 0))
+    rail = system.add_body("rail", joint=eg.Prismatic(IMG, axis=(1, 0, 0)))
+    system.add_body(IMG + "p", parent=rail, joint=eg.Prismatic("y", axis=(0, 1, 0)), mass=m,
+                    inertia=sp.zeros(3))
+    x, y = system.q
+    k = eg.kane(system, holonomic=[x - a * y], dependent_coordinates=[x], independent=[system.u[1]])
+    assert_text_only(k._repr_markdown_(), [])
+    sol = eg.solution(k)
+    assert_text_only(sol.markdown(), [IMG + "p"])
+    assert IMG + "p" in pdf_text(sol.pdf(tmp_path / "k.pdf"))
+
+
 names = st.text(alphabet=st.sampled_from(PRINTABLE), min_size=1, max_size=10).filter(str.strip)
 
 
