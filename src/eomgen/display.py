@@ -6,6 +6,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .errors import ModelError
+from .escaping import markdown_text
 from .printing import latex
 from .textbook import Simplifier
 
@@ -45,7 +46,7 @@ def equations_math(eom) -> str:
 def equations_markdown(eom) -> str:
     n = len(eom.u)
     sizes = ", ".join(f"{k}: {n}×{n if k == 'M' else 1}" for k in ("M", "b", "g") if k in eom.compact)
-    loads = ", ".join(eom.load_names) or "none"
+    loads = ", ".join(map(markdown_text, eom.load_names)) or "none"
     return (
         f"**Equations of motion** by `{eom.method}`: {n} speeds ({sizes}); loads: {loads}; "
         f"S: {eom.S.rows}×{n}.\n\n$$ {equations_math(eom)} $$\n"
@@ -72,7 +73,8 @@ def kane_math(k) -> str:
 
 def kane_markdown(k) -> str:
     n, p, h = len(k.speeds), len(k.independent), len(k.dependent_coordinates)
-    holonomic = f" ({h} from holonomic constraints in {k.dependent_coordinates})" if h else ""
+    dependent = latex(sp.Matrix(k.dependent_coordinates).T)
+    holonomic = f" ({h} from holonomic constraints in ${dependent}$)" if h else ""
     return (
         f"**Kane's equations**: {n} speeds, {n - p} velocity constraints{holonomic}, {p} equations.\n\n"
         f"$$ {kane_math(k)} $$\n"

@@ -9,16 +9,17 @@ small integers and simple fractions (1/2, 3/4) stay exact."""
 from __future__ import annotations
 
 import re
-import unicodedata
 
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
 
+from .escaping import latex_math
 from .symbols import Generated
 
 CUT = {"a": "a", "alpha": r"\alpha", "F": "F", "T": "T"}  # the free cut's accelerations and reactions
 SIMPLE_DENOMINATOR = 1000  # a fraction with a larger denominator is a decimal number from a file
-SIMPLE = re.compile(r"^[A-Za-z]+\d*(_\{?[A-Za-z0-9]{1,3}\}?)?$")  # m, l_c1, q_1, phi: sympy prints them well
+MATRICES = {"Jdot_c qdot": r"\dot{J}_{c} \dot{q}"}  # eomgen's own matrix symbols (the contacts' step)
+SIMPLE = re.compile(r"[A-Za-z]+\d*(_[A-Za-z0-9]{1,3}|_\{[A-Za-z0-9]{1,3}\})?")  # m, l_c1, phi: sympy's
 
 
 class Printer(LatexPrinter):
@@ -40,9 +41,12 @@ class Printer(LatexPrinter):
             return rf"{CUT[tag[0]]}_{{{text(tag[1])},{tag[2]}}}"
         if isinstance(tag, tuple) and len(tag) == 2 and tag[0] == "tau":
             return rf"\tau_{{{name(tag[1])}}}"
-        if not SIMPLE.match(expr.name):  # shoulder_pan_joint, "a b", "φ₁": a name, not a symbol
-            return rf"\mathrm{{{escape(expr.name, math=True)}}}"
+        if not SIMPLE.fullmatch(expr.name):  # shoulder_pan_joint, "a b", "φ₁": a name, not a symbol
+            return text(expr.name)
         return super()._print_Symbol(expr, style)
+
+    def _print_MatrixSymbol(self, expr):
+        return MATRICES.get(expr.name) or super()._print_MatrixSymbol(expr)
 
     def _print_Float(self, expr):
         return super()._print_Float(sp.Float(expr, self.digits))
@@ -61,40 +65,6 @@ def _split_subscript(symbol: str) -> tuple[str, str]:
     return symbol, ""
 
 
-def escape(label: str, math: bool = False) -> str:
-    """A name as LaTeX (text mode, or inside \\mathrm when `math`): specials escaped, Greek letters as
-    their commands, other non-ASCII letters without their accents (pdflatex has no glyphs for them)."""
-    out = []
-    for c in label:
-        if c in "#$%&_{}":
-            out.append("\\" + c)
-        elif c in "\\~^":
-            out.append(
-                {"\\": r"\backslash ", "~": r"\sim ", "^": r"\wedge "}[c]
-                if math
-                else {"\\": r"\textbackslash{}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}[c]
-            )
-        elif c == " " and math:
-            out.append(r"\ ")
-        elif ord(c) < 128:
-            out.append(c)
-        else:
-            out.append(_ascii(c, math))
-    return "".join(out)
-
-
-def _ascii(c: str, math: bool) -> str:
-    name = unicodedata.name(c, "")
-    if name.startswith("GREEK") and " LETTER " in name:
-        letter = name.split(" LETTER ")[1].lower().replace("final ", "").replace("lamda", "lambda")
-        command = (
-            ("\\" + (letter.capitalize() if "CAPITAL" in name else letter)) if letter.isalpha() else "?"
-        )
-        return command + " " if math else f"${command}$"
-    plain = "".join(x for x in unicodedata.normalize("NFKD", c) if ord(x) < 128)
-    return plain or "?"
-
-
 def latex(expr, digits: int = 4) -> str:
     """LaTeX of a sympy expression or matrix (see the module)."""
 
@@ -109,8 +79,8 @@ def latex(expr, digits: int = 4) -> str:
 
 
 def text(label: str) -> str:
-    """A name (body, joint, load) as LaTeX text in math mode."""
-    return rf"\text{{{escape(label)}}}"
+    """A name (body, joint, load, a symbol's that is no symbol) as upright text in math mode."""
+    return rf"\mathrm{{{latex_math(label)}}}"
 
 
 def name(label: str) -> str:

@@ -4,19 +4,18 @@ Jupyter display. Step texts carry their formulas as $...$ math and `code` in bac
 from __future__ import annotations
 
 import re
-import shutil
-import subprocess
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import sympy as sp
 
-from ..errors import ModelError
 from ..model import Cylindrical, FreeFlyer, Helical, Prismatic, Revolute, Spherical, Universal
 from ..model.loads import Actuator, Damper, Force, Spring, Torque
+from ..escaping import PREAMBLE as NAMES_PREAMBLE
+from ..escaping import latex_text, markdown_text
 from ..model.system import System
-from ..printing import escape, latex, text
+from ..printing import latex, text
+from .compile import compile_pdf
 
 WIDTH = 90  # characters of LaTeX per line of a long sum
 METHOD_TITLES = {
@@ -91,7 +90,7 @@ class Solution:
         document = "\n".join(
             [
                 PREAMBLE,
-                rf"\title{{{escape(self.title)}}}",
+                rf"\title{{{latex_text(self.title)}}}",
                 r"\date{}",
                 r"\begin{document}",
                 r"\maketitle",
@@ -104,29 +103,12 @@ class Solution:
 
     def pdf(self, path, digits: int = 4, engine: str = "pdflatex") -> Path:
         """The LaTeX document compiled to a PDF at `path` (needs a LaTeX engine, e.g. TeX Live)."""
-        exe = shutil.which(engine)
-        if exe is None:
-            raise ModelError(
-                f"no LaTeX engine {engine!r} on this machine: install one (TeX Live's pdflatex) "
-                "or write the .tex with solution.latex(path)"
-            )
-        path = Path(path)
-        with tempfile.TemporaryDirectory() as folder:
-            (Path(folder) / "solution.tex").write_text(self.latex(digits=digits), encoding="utf-8")
-            run = subprocess.run(
-                [exe, "-interaction=nonstopmode", "-halt-on-error", "solution.tex"],
-                cwd=folder,
-                capture_output=True,
-                text=True,
-            )
-            if run.returncode != 0:
-                raise ModelError(f"{engine} failed:\n{run.stdout[-2000:]}")
-            shutil.copy(Path(folder) / "solution.pdf", path)
-        return path
+        return compile_pdf(self.latex(digits=digits), path, engine)
 
     def markdown(self, path=None, digits: int = 4) -> str:
         """The same as Markdown with $$ math; written to `path` if given."""
-        out = [f"# {self.title}", "", "## The system", "", _description(self.system, "markdown", digits)]
+        out = [f"# {markdown_text(self.title)}", "", "## The system", ""]
+        out.append(_description(self.system, "markdown", digits))
         for section, steps in self._sections():
             out += ["", f"## {section}"]
             for step in steps:
@@ -162,7 +144,8 @@ PREAMBLE = r"""\documentclass[10pt]{article}
 \usepackage{amsmath,amssymb}
 \usepackage{booktabs}
 \allowdisplaybreaks
-\setcounter{MaxMatrixCols}{20}"""
+\setcounter{MaxMatrixCols}{20}
+""" + NAMES_PREAMBLE
 
 
 def _write(path, document: str) -> str:
@@ -180,8 +163,8 @@ def label(name: str) -> str:
     if match and match.group(1) in LABELS:
         return LABELS[match.group(1)].format() + rf"^{{({text(match.group(2))})}}"
     if match and match.group(1) in ("M", "b", "g") and " - " in name:
-        return rf"\text{{{escape(name)}}}"
-    return latex(sp.Symbol(name)) if name.isidentifier() and len(name) <= 3 else rf"\text{{{escape(name)}}}"
+        return text(name)
+    return latex(sp.Symbol(name)) if name.isidentifier() and len(name) <= 3 else text(name)
 
 
 def _blocks(step, kind: str, digits: int) -> list[str]:
@@ -267,78 +250,94 @@ def _display(math: str, kind: str) -> str:
     return rf"\[ {math} \]" if kind == "latex" else f"$$ {math} $$\n"
 
 
+PROSE = re.compile(r"(\\.|\$[^$]+\$|`[^`]+`)", re.S)  # a \-escaped character, $math$, `code`
+
+
 def _prose(s: str, kind: str) -> str:
-    """A step's text: $math$ kept, `code` as typewriter, the rest escaped (LaTeX)."""
-    if kind == "markdown":
-        return s
+    """A step's text (see `Step`): $math$ kept, `code` as typewriter, the rest (and a \\-escaped
+    character) as text of `kind`."""
     out = []
-    for part in re.split(r"(\$[^$]+\$|`[^`]+`)", s):
+    for part in PROSE.split(s):
         if part.startswith("$"):
             out.append(part)
         elif part.startswith("`"):
-            out.append(rf"\texttt{{{escape(part[1:-1])}}}")
+            out.append(rf"\texttt{{{latex_text(part[1:-1])}}}" if kind == "latex" else part)
         else:
-            out.append(escape(part))
+            plain = part[1:] if part.startswith("\\") else part
+            out.append(latex_text(plain) if kind == "latex" else markdown_text(plain))
     return "".join(out)
 
 
-def _joint(joint) -> str:
+class Cells:
+    """Table cells of one kind of document: names as text, formulas as inline math."""
+
+    def __init__(self, kind: str) -> None:
+        self.kind = kind
+
+    def name(self, s: str) -> str:
+        return latex_text(s) if self.kind == "latex" else markdown_text(s)
+
+    def math(self, m: str) -> str:  # a | of Markdown's math would end the table's cell
+        return f"${m}$" if self.kind == "latex" else "$" + m.replace("|", r"\|") + "$"
+
+    def body(self, body) -> str:
+        return "the world" if body is None else self.name(body.name)
+
+
+def _joint(joint, c: Cells) -> str:
     kind = type(joint).__name__
     if isinstance(joint, (Revolute, Prismatic)) and joint.mimic is not None:
         m = joint.mimic
-        return (f"{kind}, axis ${latex(joint.axis.T)}$, follows {escape(m.driver_name)}: "
-                f"${latex(m.multiplier * m.driver.q + m.offset)}$")
+        return (f"{kind}, axis {c.math(latex(joint.axis.T))}, follows {c.name(m.driver_name)}: "
+                f"{c.math(latex(m.multiplier * m.driver.q + m.offset))}")
     if isinstance(joint, (Revolute, Prismatic, Cylindrical)):
-        return f"{kind}, axis ${latex(joint.axis.T)}$"
+        return f"{kind}, axis {c.math(latex(joint.axis.T))}"
     if isinstance(joint, Helical):
-        return f"{kind}, axis ${latex(joint.axis.T)}$, pitch ${latex(joint.pitch)}$"
+        return f"{kind}, axis {c.math(latex(joint.axis.T))}, pitch {c.math(latex(joint.pitch))}"
     if isinstance(joint, Universal):
-        return f"{kind}, axes ${latex(joint.axis1.T)}$, ${latex(joint.axis2.T)}$"
+        return f"{kind}, axes {c.math(latex(joint.axis1.T))}, {c.math(latex(joint.axis2.T))}"
     if isinstance(joint, (FreeFlyer, Spherical)):
         return f"{kind} ({joint.parametrization})"
     return kind
 
 
-def _load(load) -> tuple[str, str]:
+def _load(load, c: Cells) -> tuple[str, str]:
     if isinstance(load, Force):
-        return "force", f"${latex(load.force.T)}$ on {_body(load.point.body)}"
+        return "force", f"{c.math(latex(load.force.T))} on {c.body(load.point.body)}"
     if isinstance(load, Torque):
-        return "torque", f"${latex(load.torque.T)}$ on {_body(load.body)}"
+        return "torque", f"{c.math(latex(load.torque.T))} on {c.body(load.body)}"
     if isinstance(load, Actuator):
-        return "actuator", f"between {_body(load.a.body)} and {_body(load.b.body)}"
+        return "actuator", f"between {c.body(load.a.body)} and {c.body(load.b.body)}"
     if isinstance(load, Spring):
         return (
             "spring",
             (
-                f"$k = {latex(load.stiffness)}$, $l_0 = {latex(load.rest_length)}$, "
-                f"{_body(load.a.body)} to {_body(load.b.body)}"
+                f"{c.math(f'k = {latex(load.stiffness)}')}, {c.math(f'l_0 = {latex(load.rest_length)}')}, "
+                f"{c.body(load.a.body)} to {c.body(load.b.body)}"
             ),
         )
     if isinstance(load, Damper):
-        return "damper", f"$c = {latex(load.damping)}$"
-    return type(load).__name__, ""
-
-
-def _body(body) -> str:
-    return "the world" if body is None else body.name
+        return "damper", c.math(f"c = {latex(load.damping)}")
+    return c.name(type(load).__name__), ""
 
 
 def _description(system: System, kind: str, digits: int) -> str:
     """Tables of the bodies (joint, mass, centre of mass, inertia) and the loads."""
+    c = Cells(kind)
     header = ["body", "parent", "joint", "mass", "centre of mass", "inertia"]
     rows = [
         [
-            b.name,
-            _body(b.parent),
-            f"{b.joint.name}: {_joint(b.joint)}",
-            f"${latex(b.mass, digits)}$",
-            f"${latex(b.com.T, digits)}$",
-            f"${_inertia(b.inertia, digits)}$",
+            c.name(b.name),
+            c.body(b.parent),
+            f"{c.name(b.joint.name)}: {_joint(b.joint, c)}",
+            c.math(latex(b.mass, digits)),
+            c.math(latex(b.com.T, digits)),
+            c.math(_inertia(b.inertia, digits)),
         ]
         for b in system.bodies
     ]
     g = f"Gravity ${latex(system.gravity.T, digits)}$; coordinates $q = {latex(system.q.T, digits)}$."
-    loads = [[load.name, *_load(load)] for load in system.loads]
+    loads = [[c.name(load.name), *_load(load, c)] for load in system.loads]
     parts = [g, _table(header, rows, kind)]
     if loads:
         parts.append(_table(["load", "kind", "what"], loads, kind))
@@ -354,23 +353,15 @@ def _inertia(I: sp.Matrix, digits: int) -> str:
 
 
 def _table(header: list[str], rows: list[list[str]], kind: str) -> str:
-    def cell(c: str) -> str:  # names escaped, math kept
-        return (
-            c
-            if kind == "markdown"
-            else "".join(
-                part if part.startswith("$") else escape(part) for part in re.split(r"(\$[^$]*\$)", c)
-            )
-        )
-
+    """A table of cells already written for `kind` (see `Cells`)."""
     if kind == "markdown":
         lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-        return "\n".join(lines + ["| " + " | ".join(c.replace("|", r"\|") for c in r) + " |" for r in rows])
+        return "\n".join(lines + ["| " + " | ".join(r) + " |" for r in rows])
     spec = "l" * len(header)
     lines = [
         rf"\begin{{center}}\small\begin{{tabular}}{{{spec}}}",
         r"\toprule",
         " & ".join(header) + r" \\",
         r"\midrule",
-    ] + [" & ".join(cell(c) for c in r) + r" \\" for r in rows]
+    ] + [" & ".join(r) + r" \\" for r in rows]
     return "\n".join(lines + [r"\bottomrule", r"\end{tabular}\end{center}"])

@@ -7,6 +7,7 @@ its expressions use them."""
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 import sympy as sp
@@ -24,7 +25,8 @@ LARGE = 400  # a closed form with more operations than this is shown through sha
 @dataclass
 class Step:
     """One step: a title, what is done and why, named expressions (sympy objects) and the shared
-    definitions χ_k they use, if any."""
+    definitions χ_k they use, if any. The text is prose with $math$ and `code`; names and other
+    text from outside go in through `literal`."""
 
     title: str
     text: str
@@ -80,6 +82,11 @@ class Forms:
         out.update({f"tau[{name}]": self(self.eom.compact[f"tau:{name}"]) for name in self.eom.load_names})
         self.results = out
         return dict(out)
+
+
+def literal(s: str) -> str:
+    """Text that shows as it is in a step's text: its \\, $ and ` escaped by a \\."""
+    return re.sub(r"([\\$`])", r"\\\1", s)
 
 
 def _entries(x) -> list:
@@ -226,7 +233,7 @@ def free_cut(forms: Forms) -> list[Step]:
         try:
             steps.append(_cut(forms))
         except ModelError as why:  # a mimic joint, or motion axes at changing angles
-            steps.append(Step("Cut-free balances", f"Not written out: {why}.", {}, method))
+            steps.append(Step("Cut-free balances", f"Not written out: {literal(str(why))}.", {}, method))
     results = forms.result()
     wrenches = eom.extras["reactions"]
     results.update({f"reaction[{joint}]": forms(W) for joint, W in wrenches.items()})
@@ -295,7 +302,7 @@ def contacts(forms: Forms) -> Step:
         n, k = len(system.u), J_c.rows
         M, J = sp.MatrixSymbol("M", n, n), sp.MatrixSymbol("J_c", k, n)
         h = sp.MatrixSymbol("h", n, 1)
-        Jdu = sp.MatrixSymbol(r"\dot{J}_{c} \dot{q}", k, 1)
+        Jdu = sp.MatrixSymbol("Jdot_c qdot", k, 1)
         Lambda = (J * M.I * J.T).I
         expressions["F_c"] = -Lambda * (J * M.I * h + Jdu)
         expressions["N_c"] = sp.Identity(n) - M.I * J.T * Lambda * J
