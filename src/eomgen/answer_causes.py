@@ -6,7 +6,7 @@ whose corrected entry equals the derived one (at the checker's random states) is
     parallel axis   s ± m_i d² = t    (m_i a body's mass, d its com distance or a placement's length)
     Coriolis        s + c u_j u_k = t (c u_j u_k a term of t, j ≠ k; centrifugal for j = k)
     inertia axis    s with I_a → I_b = t (a, b entries of one body's inertia)
-    sign of a term  s + 2 t_k = t     (t_k an additive term of t)"""
+    sign of a term  s − 2 s_k = t     (s_k a term of s, as written or multiplied out)"""
 
 from __future__ import annotations
 
@@ -57,8 +57,8 @@ def _candidates(student, truth, s, values, system) -> Iterator[tuple[np.ndarray,
             for b in axes:
                 if b != a:
                     yield values(student.xreplace({a: b})), f"wrong axis of inertia: {a} where {b} belongs"
-    for term in sp.Add.make_args(sp.expand(truth)):
-        yield s + 2 * values(term), f"sign of the term {plain_text(term)}"
+    for term in dict.fromkeys(sp.Add.make_args(student) + sp.Add.make_args(sp.expand(student))):
+        yield s - 2 * values(term), f"sign of the term {plain_text(term)}"
 
 
 def _swapped(f: sp.Expr) -> sp.Expr:

@@ -87,19 +87,20 @@ class Reader:
         try:
             expr = parse_latex(BRACED.sub(r"\\\1\2\\left(\3\\right)", DOT.sub(mark, text)), strict=True)
         except LaTeXParsingError as e:
-            raise ModelError(f"check_answer: {label}: cannot read the LaTeX {text!r}: "
+            raise ModelError(f"check_answer: {label}: cannot read the LaTeX '{text}': "
                              f"{str(e).splitlines()[0]}") from None
-        for f in expr.atoms(sp.sin, sp.cos, sp.tan):
-            if not _linear(f.args[0]):
-                raise ModelError(f"check_answer: {label}: {text!r} reads as {f} (an angle times another "
-                                 r"symbol); put the angle in brackets, e.g. \sin(\phi)\,\dot\phi^2")
         speeds = {}
         for k, name in enumerate(marked):
             if name not in self.dotted:
                 raise ModelError(f"check_answer: {label}: \\dot{{{name}}} is not the speed of a coordinate;"
                                  f" coordinates with u = q̇: {', '.join(self.dotted)}")
             speeds[sp.Symbol(MARK % k)] = self.dotted[name]
-        return expr.xreplace(speeds)
+        expr = expr.xreplace(speeds)
+        for f in expr.atoms(sp.sin, sp.cos, sp.tan):
+            if not _linear(f.args[0]):
+                raise ModelError(f"check_answer: {label}: '{text}' reads as {f} (an angle times another "
+                                 r"symbol); put the angle in brackets, e.g. \sin(\phi)\,\dot\phi^2")
+        return expr
 
     def _speed(self, d: sp.Derivative, label: str) -> sp.Symbol:
         """Derivative(q(t), t) → the speed of q."""
