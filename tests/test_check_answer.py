@@ -20,12 +20,13 @@ def lecture_cart_pendulum():
     system, (m_c, m_p, l, g) = cart_pendulum()
     phi, phid = system.q[1], system.u[1]
     M = sp.Matrix([[m_c + m_p, m_p * l * sp.cos(phi)], [m_p * l * sp.cos(phi), m_p * l**2]])
-    return system, M, sp.Matrix([-m_p * l * sp.sin(phi) * phid**2, 0]), sp.Matrix([0, m_p * g * l * sp.sin(phi)])
+    b = sp.Matrix([-m_p * l * sp.sin(phi) * phid**2, 0])
+    return system, M, b, sp.Matrix([0, m_p * g * l * sp.sin(phi)])
 
 
 def two_link_arm():
-    """The paper's arm (angles from the horizontal), each link's inertia diag(I_xx, I_yy, I_zz) about its com;
-    M, b = C q̇, G as the paper writes them."""
+    """The paper's arm (angles from the horizontal), each link's inertia diag(I_xx, I_yy, I_zz) about
+    its com; M, b = C q̇, G as the paper writes them."""
     g = sp.Symbol("g", positive=True)
     m1, m2, l1, lc1, lc2 = sp.symbols("m_1 m_2 l_1 l_c1 l_c2", positive=True)
     I = [sp.symbols(f"I_{i}xx I_{i}yy I_{i}zz", positive=True) for i in (1, 2)]
@@ -67,7 +68,7 @@ def test_equivalent_forms_are_equal():
     assert eg.check_answer(system, M=M, b=b, g=g).ok
     cart, Mc, bc, gc = CART
     phi = cart.q[1]
-    gc = sp.Matrix([0, 2 * gc[1] / sp.sin(phi) * sp.sin(phi / 2) * sp.cos(phi / 2)])  # sin φ = 2 sin φ/2 cos φ/2
+    gc = sp.Matrix([0, 2 * gc[1] / sp.sin(phi) * sp.sin(phi / 2) * sp.cos(phi / 2)])  # 2 sin φ/2 cos φ/2
     assert eg.check_answer(cart, M=Mc * (sp.cos(phi) ** 2 + sp.sin(phi) ** 2), g=gc).ok
 
 

@@ -37,7 +37,8 @@ def _candidates(student, truth, s, values, system) -> Iterator[tuple[np.ndarray,
     yield s / 2, "a factor 2 (the entry is twice the right one)"
     trig = sorted(student.atoms(sp.sin, sp.cos), key=sp.default_sort_key)
     for f in trig:
-        yield values(student.xreplace({f: _swapped(f)})), f"{plain_text(f)} where {plain_text(_swapped(f))} belongs"
+        cause = f"{plain_text(f)} where {plain_text(_swapped(f))} belongs"
+        yield values(student.xreplace({f: _swapped(f)})), cause
     if len(trig) > 1:
         yield values(student.xreplace({f: _swapped(f) for f in trig})), "sin for cos and cos for sin"
     for term in _parallel_axis_terms(system):

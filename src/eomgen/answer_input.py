@@ -17,7 +17,8 @@ EXTRA = ("LaTeX answers need sympy's LaTeX parser: pip install 'eomgen[check]' (
          "4.11, the version sympy names); or give sympy expressions")
 DOT = re.compile(r"\\dot\s*(?:\{([^{}]*)\}|(\\[A-Za-z]+|[A-Za-z]))(_\{[^{}]*\}|_[A-Za-z0-9])?")
 MATRIX = re.compile(r"\\begin\{([pbBvV]?matrix|array)\}(?:\{[^{}]*\})?(.*?)\\end\{\1\}", re.S)
-BRACED = re.compile(r"\\(sin|cos|tan)(\^\{?\d+\}?)?\s*\{([^{}]*)\}")  # \sin{\phi} x: sin(φ)·x, not sin(φ x)
+# \sin{\phi} x: sin(φ)·x, not sin(φ x)
+BRACED = re.compile(r"\\(sin|cos|tan)(\^\{?\d+\}?)?\s*\{([^{}]*)\}")
 VARIANTS = {"varphi": "phi", "vartheta": "theta", "varepsilon": "epsilon"}
 MARK = "Upsilon_{%d}"  # a dotted coordinate while the LaTeX is parsed
 
@@ -53,8 +54,8 @@ class Reader:
             rows = [[e] for e in rows[0]]
         got = (len(rows), len({len(r) for r in rows}) == 1 and len(rows[0]) or -1)
         if got != shape:
-            raise ModelError(f"check_answer: {name} has {len(rows)} rows of {[len(r) for r in rows]} entries;"
-                             f" the system's {name} is {shape[0]}×{shape[1]}")
+            raise ModelError(f"check_answer: {name} has {len(rows)} rows of {[len(r) for r in rows]} "
+                             f"entries; the system's {name} is {shape[0]}×{shape[1]}")
         label = (lambda i, j: f"{name}[{i},{j}]") if shape[1] > 1 else (lambda i, j: f"{name}[{i}]")
         return sp.Matrix([[self.entry(e, label(i, j)) for j, e in enumerate(r)] for i, r in enumerate(rows)])
 
