@@ -3,6 +3,7 @@ derived by several methods and turned into verified numeric code."""
 __version__ = "0.1.0"
 
 from .assembly import assemble, project
+from .check_answer import check_answer
 from .codegen import codegen, write_c, write_module
 from .eom import EquationsOfMotion
 from .errors import ModelError
@@ -27,7 +28,8 @@ from .verify import verify
 __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed", "FlexibleLink", "FreeFlyer", "Helical",
            "Kinematics", "Linearization", "ModelError", "Placement", "Planar", "Prismatic", "Revolute",
            "Solution", "Spherical", "Step",
-           "System", "Translation", "Universal", "assemble", "codegen", "derive", "from_dh", "from_mjcf",
+           "System", "Translation", "Universal", "assemble", "check_answer", "codegen",
+           "derive", "from_dh", "from_mjcf",
            "from_urdf", "integrate", "kane", "linearize", "project", "quiet", "random_states", "reduce",
            "robots",
            "difference", "simplified", "simulate", "plot", "animate", "solution",

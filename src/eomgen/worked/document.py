@@ -138,6 +138,11 @@ class Solution:
             f" form={self.form!r})"
         )
 
+    def check(self, **answer):
+        """A student's M=, b=, g=, tau= against this system's (see `eomgen.check_answer`)."""
+        from ..check_answer import check_answer  # here: the class's one method outside rendering
+        return check_answer(self.system, **answer)
+
 
 PREAMBLE = r"""\documentclass[10pt]{article}
 \usepackage[margin=2cm]{geometry}
