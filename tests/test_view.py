@@ -25,7 +25,8 @@ def scene(page: str) -> list[dict]:
 
 
 def transforms(commands: list[dict]) -> dict[str, np.ndarray]:
-    return {c["path"]: np.array(c["matrix"]).reshape(4, 4).T for c in commands if c["type"] == "set_transform"}
+    return {c["path"]: np.array(c["matrix"]).reshape(4, 4).T
+            for c in commands if c["type"] == "set_transform"}
 
 
 @pytest.fixture(scope="module")
@@ -84,7 +85,8 @@ def test_pendulum_played_back_at_the_simulation_times(pendulum):
     paths_ = {c["path"] for c in commands}
     assert {"/eomgen/cart/com", "/eomgen/pendulum/com", "/eomgen/pendulum/link_com",
             "/eomgen/pendulum/frames/tip"} <= paths_
-    clips = {a["path"]: a["clip"] for a in next(c for c in commands if c["type"] == "set_animation")["animations"]}
+    played = next(c for c in commands if c["type"] == "set_animation")
+    clips = {a["path"]: a["clip"] for a in played["animations"]}
     assert set(clips) == {"/eomgen/cart", "/eomgen/pendulum"}
     down = X["/eomgen"]  # gravity (0, -g, 0) shown along -z
     np.testing.assert_allclose(down[:3, :3] @ [0, -1, 0], [0, 0, -1], atol=1e-15)
