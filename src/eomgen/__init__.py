@@ -22,6 +22,7 @@ from .state import difference, integrate, random_states
 from .simulate import simulate
 from .plotting import plot
 from .animation import animate
+from .view import View, view
 from .tradeoff import tradeoff
 from .verify import verify
 
@@ -33,4 +34,4 @@ __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed
            "from_urdf", "integrate", "kane", "linearize", "project", "quiet", "random_states", "reduce",
            "robots",
            "difference", "simplified", "simulate", "plot", "animate", "solution",
-           "tradeoff", "verify", "write_c", "write_module"]
+           "tradeoff", "verify", "view", "View", "write_c", "write_module"]
