@@ -116,6 +116,20 @@ class KaneEquations(ClosedForms):
         return self._solution()["u"]
 
     @property
+    def kinematic_equations(self) -> sp.Matrix:
+        """The kinematic equations' left sides Y u + K w + k0 (= 0), in q, u and w; closed form."""
+        B = self._blocks()
+        return B["Y"] * sp.Matrix(self.system.u) + B["K"] * sp.Matrix(self.speeds) + B["k0"]
+
+    @property
+    def velocity_constraints(self) -> sp.Matrix:
+        """The velocity constraints' left sides C w + c0 (= 0): ḟ, then the nonholonomic ones, in q and w;
+        closed form."""
+        B, (dep, ind) = self._blocks(), self._indices()
+        w = sp.Matrix(self.speeds)
+        return B["C_dep"] * w[dep, :] + B["C_ind"] * w[ind, :] + B["c0"]
+
+    @property
     def holonomic(self) -> sp.Matrix:
         """The holonomic constraints' residuals f(q) (= 0 on the constraint); closed form."""
         return self._closed_form("holonomic")[:, 0]

@@ -4,7 +4,8 @@ A product vanishes only where one of its factors does. So an entry e = c ∏ f�
 small entries first brought over one denominator, `sp.together`) is nonzero wherever the stated
 expressions are not zero, if its coefficient c ≠ 0 and every base fᵢ is proven nonzero by sympy
 (`is_zero is False`: numbers, positive symbols, ...) or is, up to its sign, a base of a stated
-expression (compared as it is and, when small, expanded). No entry is simplified."""
+expression (compared as it is and, when small, expanded); small bases are also expanded with
+sin² = 1 − cos² (cos² + sin² is 1). No entry is simplified."""
 
 from __future__ import annotations
 
@@ -28,7 +29,8 @@ class Nonzero:
             return True
         if not self._bases or e.is_zero:
             return False
-        return all(f.is_zero is False or not forms(f).isdisjoint(self._bases) for f in bases(e))
+        return all(f.is_zero is False or pythagoras(f).is_zero is False or not forms(f).isdisjoint(self._bases)
+                   for f in bases(e))
 
     def condition(self) -> str:
         """'s_1 ≠ 0, s_2 ≠ 0' in LaTeX ('' when nothing is stated)."""
@@ -51,6 +53,14 @@ def bases(e: sp.Expr) -> list[sp.Expr]:
         if not (base.is_number and base.is_zero is False):
             found.append(base)
     return found
+
+
+def pythagoras(f: sp.Expr) -> sp.Expr:
+    """Small f expanded with sin²x = 1 − cos²x (so that cos²x + sin²x is 1); large f as it is."""
+    if sp.count_ops(f) > SMALL:
+        return f
+    return sp.expand(sp.expand(f).subs({sp.sin(x) ** 2: 1 - sp.cos(x) ** 2
+                                        for x in (s.args[0] for s in f.atoms(sp.sin))}))
 
 
 def forms(f: sp.Expr) -> set[sp.Expr]:
