@@ -30,7 +30,8 @@ def notes_closed_forms(x3):
     u1, u2 = K.u1, K.u2
     sec, tan = 1 / sp.cos(x3), sp.tan(x3)
     return {"mass_matrix": sp.Matrix([[m * sec**2, 0], [0, I_z + m * a**2]]),
-            "forcing": sp.Matrix([m * a * sec * u2**2 - m * tan * sec**2 * u1 * u2, F * l - m * a * sec * u1 * u2]),
+            "forcing": sp.Matrix([m * a * sec * u2**2 - m * tan * sec**2 * u1 * u2,
+                                  F * l - m * a * sec * u1 * u2]),
             "active_forces": sp.Matrix([0, F * l]),
             "dependent_speeds": sp.Matrix([tan * u1]),
             "qdot": sp.Matrix([u1, tan * u1, u2])}
@@ -44,7 +45,8 @@ def states(system, count, seed):
         q = rng.uniform(-np.pi, np.pi, 3)
         if abs(np.cos(q[2])) > 0.1:
             values = {s: rng.uniform(0.5, 1.5) for s in (m, I_z, a, l, F)}
-            out.append({**values, **dict(zip(system.q, q)), K.u1: rng.uniform(-2, 2), K.u2: rng.uniform(-2, 2)})
+            speeds = dict(zip((K.u1, K.u2), rng.uniform(-2, 2, 2)))
+            out.append({**values, **dict(zip(system.q, q)), **speeds})
     return out
 
 
@@ -85,19 +87,21 @@ def test_notes_speeds_equal_sympy_kanes_method(skate):
         ours = {s: values[s] for s in (m, I_z, a, l, F)}
         on_sympy = {**ours, **dict(zip([x1, x2, x3], q)), w[0]: values[K.u1], w[1]: values[K.u2],
                     w[2]: np.tan(q[2]) * values[K.u1]}
-        M_s, F_s = number(me.msubs(km.mass_matrix, on_sympy), {}), number(me.msubs(km.forcing, on_sympy), {})[:, 0]
+        M_s = number(me.msubs(km.mass_matrix, on_sympy), {})
+        F_s = number(me.msubs(km.forcing, on_sympy), {})[:, 0]
         M_k, f_k = number(k.mass_matrix, values), number(k.forcing, values)[:, 0]
         for wd in rng.uniform(-1, 1, (2, 2)):
             wd_dep = np.linalg.solve(M_s[2:, 2:], F_s[2:] - M_s[2:, :2] @ wd)
-            np.testing.assert_allclose(f_k - M_k @ wd, F_s[:2] - M_s[:2] @ np.r_[wd, wd_dep], rtol=1e-10, atol=1e-10)
+            np.testing.assert_allclose(f_k - M_k @ wd, F_s[:2] - M_s[:2] @ np.r_[wd, wd_dep],
+                                       rtol=1e-10, atol=1e-10)
 
 
 def test_without_assumptions_refused_suggesting_them():
     system, args = notes_skate()
     k = eg.kane(system, **args)
     for key in ("mass_matrix", "forcing", "dependent_speeds"):
-        with pytest.raises(ModelError, match=r"C_dep: no pivot in column 0 can be proven nonzero \(candidates "
-                                             r"\[cos\(x_3\)\]\).*assume_nonzero=\[cos\(x_3\)\].*eg.codegen"):
+        with pytest.raises(ModelError, match=r"C_dep: no pivot in column 0 can be proven nonzero "
+                           r"\(candidates \[cos\(x_3\)\]\).*assume_nonzero=\[cos\(x_3\)\].*eg.codegen"):
             getattr(k, key)
     with pytest.raises(ModelError, match=r"assume_nonzero=\[cos\(x_3\)\]"):
         eg.solution(k)
@@ -112,7 +116,8 @@ def test_solution_shows_where_it_holds(skate):
     v = sol["velocity constraints"]
     assert sp.expand(v[0] - (-sp.sin(x3) * K.u1 + sp.cos(x3) * K.u3)) == 0
     x1d, x2d, x3d = system.u
-    assert sp.expand(sol["kinematic equations"] - sp.Matrix([K.u1 - x1d, K.u2 - x3d, K.u3 - x2d])) == sp.zeros(3, 1)
+    kinematic = sp.Matrix([K.u1 - x1d, K.u2 - x3d, K.u3 - x2d])
+    assert sp.expand(sol["kinematic equations"] - kinematic) == sp.zeros(3, 1)
 
 
 def test_runner_speeds_implicit_kinematics_with_assumption():
@@ -134,7 +139,8 @@ def test_runner_speeds_implicit_kinematics_with_assumption():
     (lambda x3: sp.cos(x3), "expected a list"), (lambda x3: "cos(x_3)", "expected a list"),
     (lambda x3: 2, "expected a list"), (lambda x3: [0], "a number states nothing"),
     (lambda x3: [2], "a number states nothing"), (lambda x3: ["cos(x_3)"], "strings are not parsed"),
-    (lambda x3: [sp.S.Zero], "a number"), (lambda x3: [sp.sin(x3)**2 + sp.cos(x3)**2 - 1], "identically zero"),
+    (lambda x3: [sp.S.Zero], "a number"),
+    (lambda x3: [sp.sin(x3)**2 + sp.cos(x3)**2 - 1], "identically zero"),
     (lambda x3: [sp.cos(sp.Symbol("z"))], r"\[z\] are neither coordinates"),
     (lambda x3: [sp.cos(x3), sp.nan], "must be finite")])
 def test_assume_nonzero_refused_where_it_enters(value, match):
@@ -148,8 +154,8 @@ b, c = sp.symbols("b c", positive=True)
 
 
 @settings(max_examples=40, deadline=None)
-@given(st.integers(-3, 3), st.integers(-3, 3), st.integers(0, 2), st.sampled_from([1, -2, sp.Rational(1, 3)]),
-       st.booleans())
+@given(st.integers(-3, 3), st.integers(-3, 3), st.integers(0, 2),
+       st.sampled_from([1, -2, sp.Rational(1, 3)]), st.booleans())
 def test_products_of_stated_factors_proven(k1, k2, k3, coefficient, flip):
     """c cos(x)^k1 (x − y)^k2 b^k3 (b > 0) is proven nonzero where cos x ≠ 0 and y − x ≠ 0 are stated (in
     either sign); times sin x or c − b, or plus y, it is not (each vanishes somewhere)."""
@@ -158,3 +164,22 @@ def test_products_of_stated_factors_proven(k1, k2, k3, coefficient, flip):
     assert nonzero.proves(e)
     assert not nonzero.proves(e * sp.sin(x)) and not nonzero.proves(e * (c - b))
     assert not nonzero.proves(e + y)
+
+
+def test_symbolic_linearization_under_the_same_assumption():
+    """linearize(k, symbolic point) solves on the same pivots: refused without the assumption (naming
+    the candidate and assume_nonzero), and with it A = ∂ẋ/∂x of the notes' ẋ = [u1, tan x3 u1, u2, M̃⁻¹ f̃]."""
+    system, args = notes_skate()
+    x1, x2, x3 = system.q
+    point = {"x_1": x1, "x_2": x2, "x_3": x3, "u1": K.u1, "u2": K.u2}
+    with pytest.raises(ModelError, match=r"candidates \[cos\(x_3\)\].*assume_nonzero=\[cos\(x_3\)\]"):
+        eg.linearize(eg.kane(system, **args), point, inputs=["F"], symbolic=True)
+    k = eg.kane(system, **args, assume_nonzero=[sp.cos(x3)])
+    lin = eg.linearize(k, point, inputs=["F"], symbolic=True)
+    notes = notes_closed_forms(x3)
+    xdot = notes["qdot"].col_join(notes["mass_matrix"].inv() * notes["forcing"])
+    state = [x1, x2, x3, K.u1, K.u2]
+    A, B = xdot.jacobian(state), xdot.jacobian([F])
+    for values in states(system, 3, 4):
+        np.testing.assert_allclose(number(lin.A, values), number(A, values), rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(number(lin.B, values), number(B, values), rtol=1e-12, atol=1e-12)

@@ -217,6 +217,17 @@ class KaneEquations(ClosedForms):
         return self._closed["solution"]
 
 
+class NoPivot(ModelError):
+    """No pivot of column j of `what` is proven nonzero; `candidates`: its nonzero entries."""
+
+    def __init__(self, what: str, j: int, candidates: list) -> None:
+        self.candidates = candidates
+        self.hint = f"eg.kane(..., assume_nonzero={candidates[:1]}) (valid where it does not vanish)"
+        super().__init__(f"kane: no closed form: {what}: no pivot in column {j} can be proven nonzero "
+                         f"(candidates {candidates}); where the closed forms may divide by one, state it: "
+                         f"{self.hint}, or {NUMERIC}")
+
+
 def solve_proven(A: sp.Matrix, B: sp.Matrix, what: str, normal=None, nonzero=NOTHING) -> sp.Matrix:
     """X with A X = B by Gauss-Jordan elimination, pivoting only on entries proven nonzero
     (`is_zero is False`: numbers, positive symbols, ...; else by the stated assumptions, `nonzero`, a
@@ -230,11 +241,7 @@ def solve_proven(A: sp.Matrix, B: sp.Matrix, what: str, normal=None, nonzero=NOT
         if pivot is None:
             pivot = next((i for i in range(j, n) if nonzero.proves(A[i, j])), None)
         if pivot is None:
-            candidates = [e for e in A[j:, j] if e != 0]
-            raise ModelError(f"kane: no closed form: {what}: no pivot in column {j} can be proven nonzero "
-                             f"(candidates {candidates}); where the closed forms may divide by one, state "
-                             f"it: eg.kane(..., assume_nonzero={candidates[:1]}) (valid where it does not "
-                             f"vanish), or {NUMERIC}")
+            raise NoPivot(what, j, [e for e in A[j:, j] if e != 0])
         A.row_swap(j, pivot)
         B.row_swap(j, pivot)
         for i in range(n):

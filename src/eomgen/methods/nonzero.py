@@ -29,8 +29,8 @@ class Nonzero:
             return True
         if not self._bases or e.is_zero:
             return False
-        return all(f.is_zero is False or pythagoras(f).is_zero is False or not forms(f).isdisjoint(self._bases)
-                   for f in bases(e))
+        return all(f.is_zero is False or pythagoras(f).is_zero is False
+                   or not forms(f).isdisjoint(self._bases) for f in bases(e))
 
     def condition(self) -> str:
         """'s_1 ≠ 0, s_2 ≠ 0' in LaTeX ('' when nothing is stated)."""
