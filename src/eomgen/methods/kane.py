@@ -223,17 +223,16 @@ class NoPivot(ModelError):
     def __init__(self, what: str, j: int, candidates: list) -> None:
         self.candidates = candidates
         self.hint = f"eg.kane(..., assume_nonzero={candidates[:1]}) (valid where it does not vanish)"
+        state = f"where the closed forms may divide by one, state it: {self.hint}, or " if candidates else ""
         super().__init__(f"kane: no closed form: {what}: no pivot in column {j} can be proven nonzero "
-                         f"(candidates {candidates}); where the closed forms may divide by one, state it: "
-                         f"{self.hint}, or {NUMERIC}")
+                         f"(candidates {candidates}); {state}{NUMERIC}")
 
 
 def solve_proven(A: sp.Matrix, B: sp.Matrix, what: str, normal=None, nonzero=NOTHING) -> sp.Matrix:
     """X with A X = B by Gauss-Jordan elimination, pivoting only on entries proven nonzero
-    (`is_zero is False`: numbers, positive symbols, ...; else by the stated assumptions, `nonzero`, a
-    `Nonzero`);
-    ModelError naming `what` otherwise. `normal` (e.g. sympy's cancel) rewrites the entries of A and B
-    first and after each elimination step."""
+    (`is_zero is False`: numbers, positive symbols, ...), else by the stated assumptions (`nonzero`, a
+    `Nonzero`); `NoPivot` naming `what` otherwise. `normal` (e.g. sympy's cancel) rewrites the entries of
+    A and B first and after each elimination step."""
     A, B = ((X.applyfunc(normal) if normal else X).as_mutable() for X in (A, B))
     n = A.rows
     for j in range(n):
