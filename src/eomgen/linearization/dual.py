@@ -8,7 +8,7 @@ apply the rules
 so that a pipeline written once for the values (products, transposes, rows, solves) yields the columns
 of its Jacobian. The `Algebra` does the solves: NumPy's LU with pivoting (numbers), or elimination on
 pivots proven nonzero, the entries in lowest terms (`methods.kane.solve_proven` with sympy's cancel:
-sympy expressions at a symbolic operating point)."""
+sympy expressions at a symbolic operating point), with Kane's stated assumptions (`assume_nonzero`)."""
 
 from __future__ import annotations
 
@@ -18,14 +18,16 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
-from ..methods.kane import solve_proven
+from ..methods.kane import NoPivot, solve_proven
+from ..methods.nonzero import Nonzero
 
 
 class Algebra:
-    """Numbers (float arrays) or, with `symbolic`, sympy expressions (object arrays)."""
+    """Numbers (float arrays) or, with `symbolic`, sympy expressions (object arrays); `nonzero`: the
+    expressions stated nonzero (Kane's `assume_nonzero`; None where none can be stated)."""
 
-    def __init__(self, symbolic: bool) -> None:
-        self.symbolic = symbolic
+    def __init__(self, symbolic: bool, nonzero: Nonzero | None = None) -> None:
+        self.symbolic, self.nonzero = symbolic, nonzero
         self.dtype = object if symbolic else float
 
     def zeros(self, *shape: int) -> np.ndarray:
@@ -47,11 +49,12 @@ class Algebra:
             return np.linalg.solve(A, B)
         columns = np.moveaxis(B, -2, 0).reshape(B.shape[-2], -1)  # (r, n c)
         try:
-            X = solve_proven(sp.Matrix(A), sp.Matrix(columns), what, sp.cancel)
-        except ModelError:
+            X = solve_proven(sp.Matrix(A), sp.Matrix(columns), what, sp.cancel, self.nonzero or Nonzero())
+        except NoPivot as error:
+            state = "" if self.nonzero is None else f", or state it nonzero: {error.hint}"
             raise ModelError(
-                f"linearize: no closed form at this operating point: {what} has no pivot "
-                "proven nonzero; linearize numerically (symbolic=False)"
+                f"linearize: no closed form at this operating point: {what} has no pivot proven nonzero "
+                f"(candidates {error.candidates}); linearize numerically (symbolic=False){state}"
             ) from None
         X = np.array(X.tolist(), dtype=object).reshape(columns.shape)
         return np.moveaxis(X.reshape((B.shape[-2],) + B.shape[:-2] + B.shape[-1:]), 0, -2)

@@ -50,7 +50,8 @@ def linearize(
     params: the parameters' values {name: value}. symbolic: sympy matrices (the operating point and params
     may hold symbols; small systems only), `simplify` applies sympy's simplify to each entry."""
     model = _model(equations)
-    algebra, system = Algebra(symbolic), model.system
+    nonzero = equations.nonzero if isinstance(equations, KaneEquations) else None
+    algebra, system = Algebra(symbolic, nonzero), model.system
     case = model.case(independent)
     currents = [m.current for m in system.motors]
     chosen = chosen_inputs(system, model.parameters.symbols, currents, inputs)

@@ -41,6 +41,7 @@ from ..model.values import scalar
 from ..subexpressions import samples
 from ..symbols import Generated
 from . import projected_newton_euler
+from .nonzero import NOTHING, Nonzero
 
 SAMPLES = 5  # random states for the invertibility checks
 COND_LIMIT = 1e12
@@ -67,7 +68,13 @@ class KaneEquations(ClosedForms):
     eom: EquationsOfMotion | None = None  # the equations in the joint speeds u (M, b, g, τ, T, U)
     dependent_coordinates: list = field(default_factory=list)  # one per holonomic constraint
     grounded: list = field(default_factory=list)  # rolling disks kept on the ground by the tree: no height
+    assume_nonzero: list = field(default_factory=list)  # stated: the closed forms hold where none is 0
     _closed: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def nonzero(self) -> Nonzero:
+        """The stated expressions (`assume_nonzero`) that the closed forms' pivots may divide by."""
+        return Nonzero(self.assume_nonzero)
 
     @property
     def speeds_are_qdot(self) -> bool:
@@ -107,6 +114,20 @@ class KaneEquations(ClosedForms):
         """The joint speeds u = −Y⁻¹ (K w + k0) in q and w_ind (n rows; q̇ but for quaternion ball and planar
         joints); closed form."""
         return self._solution()["u"]
+
+    @property
+    def kinematic_equations(self) -> sp.Matrix:
+        """The kinematic equations' left sides Y u + K w + k0 (= 0), in q, u and w; closed form."""
+        B = self._blocks()
+        return B["Y"] * sp.Matrix(self.system.u) + B["K"] * sp.Matrix(self.speeds) + B["k0"]
+
+    @property
+    def velocity_constraints(self) -> sp.Matrix:
+        """The velocity constraints' left sides C w + c0 (= 0): ḟ, then the nonholonomic ones, in q and w;
+        closed form."""
+        B, (dep, ind) = self._blocks(), self._indices()
+        w = sp.Matrix(self.speeds)
+        return B["C_dep"] * w[dep, :] + B["C_ind"] * w[ind, :] + B["c0"]
 
     @property
     def holonomic(self) -> sp.Matrix:
@@ -159,7 +180,7 @@ class KaneEquations(ClosedForms):
             B = self._blocks()
             n, p, m = len(self.speeds), len(self.independent), len(self.dependent)
             X = solve_proven(B["C_dep"], -B["C_ind"].row_join(B["c0"]).row_join(B["r_con"]),
-                             "the constraints' matrix of the dependent speeds C_dep")
+                             "the constraints' matrix of the dependent speeds C_dep", nonzero=self.nonzero)
             A = X[:, :p]
             w_dep = A * sp.Matrix(self.independent) + X[:, p] if m else sp.zeros(0, 1)
             dep, ind = self._indices()
@@ -178,7 +199,7 @@ class KaneEquations(ClosedForms):
             w_dep, T, wd_dep = self._speeds_closed()
             n = len(self.speeds)
             X = solve_proven(B["Y"], -B["K"].row_join(B["k0"]).row_join(B["r_kin"]),
-                             "the speed map Y = ∂(kinematic equations)/∂u")
+                             "the speed map Y = ∂(kinematic equations)/∂u", nonzero=self.nonzero)
             W = X[:, :n]  # u = W w + X_k0,  u̇₀ = W ẇ₀ + X_r
             on_w = dict(zip(self.dependent, w_dep))
             w = sp.Matrix(self.speeds).xreplace(on_w)
@@ -196,17 +217,30 @@ class KaneEquations(ClosedForms):
         return self._closed["solution"]
 
 
-def solve_proven(A: sp.Matrix, B: sp.Matrix, what: str, normal=None) -> sp.Matrix:
+class NoPivot(ModelError):
+    """No pivot of column j of `what` is proven nonzero; `candidates`: its nonzero entries."""
+
+    def __init__(self, what: str, j: int, candidates: list) -> None:
+        self.candidates = candidates
+        self.hint = f"eg.kane(..., assume_nonzero={candidates[:1]}) (valid where it does not vanish)"
+        state = f"where the closed forms may divide by one, state it: {self.hint}, or " if candidates else ""
+        super().__init__(f"kane: no closed form: {what}: no pivot in column {j} can be proven nonzero "
+                         f"(candidates {candidates}); {state}{NUMERIC}")
+
+
+def solve_proven(A: sp.Matrix, B: sp.Matrix, what: str, normal=None, nonzero=NOTHING) -> sp.Matrix:
     """X with A X = B by Gauss-Jordan elimination, pivoting only on entries proven nonzero
-    (`is_zero is False`: numbers, positive symbols, ...); ModelError naming `what` otherwise. `normal`
-    (e.g. sympy's cancel) rewrites the entries of A and B first and after each elimination step."""
+    (`is_zero is False`: numbers, positive symbols, ...), else by the stated assumptions (`nonzero`, a
+    `Nonzero`); `NoPivot` naming `what` otherwise. `normal` (e.g. sympy's cancel) rewrites the entries of
+    A and B first and after each elimination step."""
     A, B = ((X.applyfunc(normal) if normal else X).as_mutable() for X in (A, B))
     n = A.rows
     for j in range(n):
         pivot = next((i for i in range(j, n) if A[i, j].is_zero is False), None)
         if pivot is None:
-            raise ModelError(f"kane: no closed form: {what}: no pivot in column {j} can be proven nonzero "
-                             f"(candidates {list(A[j:, j])}); {NUMERIC}")
+            pivot = next((i for i in range(j, n) if nonzero.proves(A[i, j])), None)
+        if pivot is None:
+            raise NoPivot(what, j, [e for e in A[j:, j] if e != 0])
         A.row_swap(j, pivot)
         B.row_swap(j, pivot)
         for i in range(n):
@@ -272,7 +306,7 @@ def _check_invertible(sub, matrices: dict[str, sp.Matrix], q: list, params: list
 
 
 def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=None, independent=None,
-         holonomic=None, dependent_coordinates=None) -> KaneEquations:
+         holonomic=None, dependent_coordinates=None, assume_nonzero=None) -> KaneEquations:
     """Kane's equations of `system` in the generalized `speeds` w, defined by `kinematic_equations`
     (expressions = 0, linear in the joint speeds u = system.u and w; default w = u), with the velocity
     constraints `nonholonomic` (expressions in q and w = 0, linear in w) and the `independent` speeds.
@@ -289,7 +323,11 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     `KaneEquations.grounded`). So there are len(holonomic) + len(nonholonomic) + 3 × disks − grounded
     dependent speeds. Constraints in the joint speeds u (ḟ, the disks' rows) are written in new
     speeds w through u = −Y⁻¹ (K w + k0) in closed form (pivots of Y proven nonzero; w = u needs none).
-    Contacts and loops are refused (write a loop as holonomic constraints). The rhs integrates every q."""
+    Contacts and loops are refused (write a loop as holonomic constraints). The rhs integrates every q.
+
+    `assume_nonzero`: expressions in q and the parameters (e.g. [sp.cos(x3)]) that the closed forms may
+    divide by (a pivot that is a product of them, of their factors and of entries proven nonzero): they
+    are then valid where none of them vanishes (kept as `KaneEquations.assume_nonzero`)."""
     if not isinstance(system, System):
         raise ModelError(f"kane: expected an eomgen.System, got {type(system).__name__}")
     if any(isinstance(j, FlexibleLink) for j in system.joints):
@@ -333,9 +371,11 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
     given = [*kinematic_equations, *nonholonomic, *holonomic]
     parameters = (system.parameters | set().union(*(sp.sympify(e).free_symbols for e in given))) - set(
         q + u + speeds)
+    assumed = assumptions(system, assume_nonzero, q, parameters)
     sub = kin.sub
     eom = projected_newton_euler.derive(kin)
-    f, C, c0, constraint_rates = _constraints(kin, holonomic, nonholonomic, speeds, (Y, K, k0))
+    f, C, c0, constraint_rates = _constraints(kin, holonomic, nonholonomic, speeds, (Y, K, k0),
+                                              Nonzero(assumed))
     F_dep = configuration_jacobian(sub, f, dependent_coordinates)
     Cd = sub.add_matrix(C[:, [speeds.index(s) for s in dependent]])
     Yn = sub.add_matrix(Y)
@@ -351,7 +391,33 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
                "C": sub.add_matrix(C).row_join(sub.add_matrix(c0)), "rates": rates, "qdot": system.qdot,
                "holonomic": f.row_join(F_dep), "tilt": tilts(kin)}
     return KaneEquations(system, kin, speeds, independent, dependent, compact, parameters, eom,
-                         dependent_coordinates=dependent_coordinates, grounded=[d.name for d in grounded])
+                         dependent_coordinates=dependent_coordinates, grounded=[d.name for d in grounded],
+                         assume_nonzero=assumed)
+
+
+def assumptions(system: System, values, q: list, parameters: set) -> list[sp.Expr]:
+    """`assume_nonzero` checked: a list of expressions in q and the parameters, none a number and none
+    zero at all random states (`samples`: identically zero, such as cos² + sin² − 1)."""
+    if values is None:
+        return []
+    if isinstance(values, (str, sp.Basic)) or not hasattr(values, "__iter__"):
+        raise ModelError(f"kane: assume_nonzero: expected a list of sympy expressions (e.g. [sp.cos(x)]), "
+                         f"got {values!r}")
+    checked = [scalar(e, f"kane: assume_nonzero {i}") for i, e in enumerate(values)]
+    states = samples(q, parameters, SAMPLES)
+    for i, e in enumerate(checked):
+        what = f"kane: assume_nonzero {i} ({e})"
+        if e.is_number:
+            raise ModelError(f"{what}: a number states nothing; give expressions in the coordinates {q}")
+        system.check_symbols(what, e)
+        unknown = e.free_symbols - set(q) - parameters
+        if unknown:
+            raise ModelError(f"{what}: {sorted(unknown, key=str)} are neither coordinates {q} nor parameters "
+                             "of the system or its constraints")
+        if all(abs(complex(e.evalf(subs=state))) < 1e-12 for state in states):
+            raise ModelError(f"{what}: it is zero at all {SAMPLES} random states (identically zero?), "
+                             "so it cannot be assumed nonzero")
+    return checked
 
 
 def _held(grounded: list, prefix: str) -> str:
@@ -377,7 +443,8 @@ def _kinematic(equations, u: list, speeds: list) -> tuple[list, tuple]:
     return equations, (YK[:, :n], YK[:, n:], k0)
 
 
-def _constraints(kin: Kinematics, holonomic: list, nonholonomic: list, speeds: list, kinematic: tuple):
+def _constraints(kin: Kinematics, holonomic: list, nonholonomic: list, speeds: list, kinematic: tuple,
+                 nonzero: Nonzero):
     """(f, C, c0, rates): the holonomic residuals f(q) (the given ones, then each rolling disk's height,
     but the grounded disks')
     and the velocity constraints C w + c0 = 0 with their rates d/dt at ẇ = 0, stacked: ḟ = ∂f/∂q q̇(q, u)
@@ -392,11 +459,11 @@ def _constraints(kin: Kinematics, holonomic: list, nonholonomic: list, speeds: l
     slip = [(r.J[:2, :], sp.zeros(2, 1), r.Jdot_u[:2, :]) for r in wheels]
     f = f.col_join(sp.Matrix(len(touching), 1, [r.residual[0] for r in touching]))
     rows = [(sp.zeros(0, n), sp.zeros(0, 1), sp.zeros(0, 1))]
-    rows += _in_speeds(kin, in_u, speeds, kinematic) if f.rows else []
+    rows += _in_speeds(kin, in_u, speeds, kinematic, nonzero) if f.rows else []
     if nonholonomic:
         C, c0 = _linear(nonholonomic, speeds, "nonholonomic constraint")
         rows.append((C, c0, kin.time_derivative(sp.Matrix(nonholonomic))))
-    rows += _in_speeds(kin, slip, speeds, kinematic) if slip else []
+    rows += _in_speeds(kin, slip, speeds, kinematic, nonzero) if slip else []
     return (f, *(sp.Matrix.vstack(*(r[i] for r in rows)) for i in range(3)))
 
 
@@ -427,7 +494,7 @@ def configuration_jacobian(sub, f: sp.Matrix, q: list) -> sp.Matrix:
     return sp.Matrix(f.rows, len(q), lambda i, k: sub.add(sub.derivative(f[i], {q[k]: 1}, ("∂", q[k]))))
 
 
-def _in_speeds(kin: Kinematics, rows: list, speeds: list, kinematic: tuple) -> list:
+def _in_speeds(kin: Kinematics, rows: list, speeds: list, kinematic: tuple, nonzero: Nonzero) -> list:
     """Velocity constraints A u + a0 = 0 in the joint speeds (with their rates d/dt at u̇ = 0, or None)
     written in the speeds w: unchanged if w = u, else with u = W w + X0 = −Y⁻¹ (K w + k0) in closed form:
     C = A W, c0 = A X0 + a0, and the rates d/dt (C w + c0) at ẇ = 0. Returns [(C, c0, rates)]."""
@@ -436,7 +503,8 @@ def _in_speeds(kin: Kinematics, rows: list, speeds: list, kinematic: tuple) -> l
         return [(A, a0, kin.time_derivative(A * sp.Matrix(u) + a0) if rates is None else rates)
                 for A, a0, rates in rows]
     Y, K, k0 = kinematic
-    X = solve_proven(Y, -K.row_join(k0), "the speed map Y (constraints in the joint speeds, new speeds)")
+    X = solve_proven(Y, -K.row_join(k0), "the speed map Y (constraints in the joint speeds, new speeds)",
+                     nonzero=nonzero)
     written = []
     for A, a0, _ in rows:
         C, c0 = A * X[:, :-1], A * X[:, -1] + a0

@@ -22,16 +22,21 @@ def solution(k: KaneEquations, simplifier: Simplifier, title: str | None) -> Sol
     h = len(k.dependent_coordinates)
     holonomic = {"holonomic constraints": simplifier.matrix(k.holonomic),
                  "dependent coordinates": sp.Matrix(k.dependent_coordinates)} if h else {}
+    valid = (rf" The solves divide by the expressions stated nonzero: valid where ${k.nonzero.condition()}$."
+             if k.assume_nonzero else "")
     derivatives = (f" ({h} of them the time derivatives of the holonomic constraints f(q) = 0, which fix "
                    f"{h} dependent coordinates)" if h else "")
     speeds = Step(
         "Speeds and constraints",
         f"{n} generalized speeds, {n - p} velocity constraints{derivatives}, so {p} independent speeds. The "
-        "constraints, linear in the speeds, are solved for the dependent ones (a linear solve on "
-        f"pivots proven nonzero), and the kinematic equations {kinematic}",
+        "kinematic equations define the speeds, the velocity constraints (both = 0) are linear in them; "
+        "the constraints are solved for the dependent speeds (a linear solve on pivots proven nonzero), "
+        f"and the kinematic equations {kinematic}{valid}",
         {
             **holonomic,
             "speeds": sp.Matrix(k.speeds),
+            "kinematic equations": simplifier.matrix(k.kinematic_equations),
+            "velocity constraints": simplifier.matrix(k.velocity_constraints),
             "independent speeds": sp.Matrix(k.independent),
             "dependent speeds": sp.Matrix(k.dependent),
             "dependent speeds solved": simplifier.matrix(k.dependent_speeds),
@@ -68,7 +73,7 @@ def solution(k: KaneEquations, simplifier: Simplifier, title: str | None) -> Sol
     equations = Step(
         "Kane's equations",
         rf"$\tilde F_r + \tilde F^*_r = 0$, $r = 1, \dots, {p}$: as many equations as degrees of freedom "
-        r"and no multipliers, written $\tilde M \dot w_{ind} = \tilde f$.",
+        r"and no multipliers, written $\tilde M \dot w_{ind} = \tilde f$." + valid,
         {
             "F_r + F*_r": simplifier.matrix(F_r + F_star),
             "M~": simplifier.matrix(k.mass_matrix),
