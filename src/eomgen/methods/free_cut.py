@@ -20,6 +20,7 @@ The terms multiplying u̇ give M, the bias terms b, gravity g, the loads τ."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import sympy as sp
 
@@ -31,6 +32,7 @@ from ..linalg import cross, dot, matmul, scale
 from ..model.loads import Point
 from ..subexpressions import samples
 from ..symbols import Generated
+from .cut_axes import WORLD, reactions
 from .applied import add_armature, applied_wrenches, potential_energy
 
 Wrench = tuple[sp.Matrix, sp.Matrix]
@@ -143,12 +145,24 @@ def _without_free_component(kin: Kinematics, body, F: sp.Matrix, T: sp.Matrix) -
     return matmul(B, matmul(B.T, F.col_join(T)))
 
 
+class Balance(NamedTuple):
+    """One row of a body's momentum balance: Newton m a_S,i = F_i or Euler (Θ α + Ω × Θ Ω)_i = T_i
+    about the centre of mass, world axis `axis`, in the acceleration symbols a, α."""
+
+    body: str
+    law: str  # "Newton" or "Euler"
+    axis: str
+    lhs: sp.Expr
+    rhs: sp.Expr
+
+
 @dataclass(eq=False)
 class CutEquations:
     """The cut-free system before elimination (closed forms, each expression = 0).
 
     `equations` hold Newton and Euler for every body with the accelerations written through the
-    kinematics (a_S = J_P u̇ + J̇_P u); `unknowns` are the reaction components (in body axes) and u̇.
+    kinematics (a_S = J_P u̇ + J̇_P u); `unknowns` are the reaction components (world axes where the
+    joint allows, see `cut_axes`) and u̇.
     `with_kinematics()` keeps a_S and α as unknowns and adds the kinematic relations.
     Planar systems keep 3 equations per body (the in-plane force and the normal moment)."""
 
@@ -158,6 +172,8 @@ class CutEquations:
     kinematic: list  # a_S − (J_P u̇ + J̇_P u), α − (J_R u̇ + J̇_R u)
     accelerations: list
     planar_normal: int | None  # world axis (0, 1, 2) normal to the plane of motion, or None
+    balances: list  # each body's Newton and Euler rows, lhs = rhs (`Balance`), in `dynamic`'s order
+    body_axes: list  # the reaction unknowns in their child body's axes (the others: world axes)
 
     def with_kinematics(self) -> tuple[list, list]:
         """(equations, unknowns) with the accelerations of the bodies as extra unknowns."""
@@ -186,18 +202,6 @@ def _planar_normal(kin: Kinematics) -> int | None:
     return None
 
 
-def _reaction_label(body, column: sp.Matrix, k: int) -> tuple[str, tuple]:
-    """F_<body>_x for a force along a body axis, T_<body>_2 for the second torque direction, W_<body>_k
-    for a force and torque together (a screw)."""
-    force, torque = list(column[:3]), list(column[3:])
-    kind = "W" if any(x != 0 for x in force) and any(x != 0 for x in torque) else \
-        "F" if any(x != 0 for x in force) else "T"
-    part = torque if kind == "T" else force
-    axes = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
-    name = "xyz"[axes.index(part)] if kind != "W" and part in axes else f"{k + 1}"
-    return f"{kind}_{body.name}_{name}", (kind, body.name, name)
-
-
 def _efforts(kin: Kinematics, body, F: sp.Matrix, T: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
     """The joint's efforts τ_k as a wrench in its motion subspace, S G⁻¹ τ with G = SᵀS constant
     (Sᵀ of it gives back τ)."""
@@ -207,11 +211,16 @@ def _efforts(kin: Kinematics, body, F: sp.Matrix, T: sp.Matrix) -> tuple[sp.Matr
     if G is None:
         raise ModelError(f"joint '{joint.name}': the angles between its motion axes change with q (angle "
                          "rates); the cut-free balances are written for joints whose motion axes keep them")
-    names = [joint.name] if joint.dof == 1 else [f"{joint.name}_{k}" for k in range(joint.dof)]
-    tau = sp.Matrix([Generated(f"tau_{x}", ("tau", x)) for x in names])
+    tau = sp.Matrix(effort_symbols(joint))
     wrench = S * (G.inv() * tau)  # a constant Gram matrix of at most 6 × 6 numbers or parameters
     R = sub.inline(kin.R[body])  # S is in child axes
     return F + R * wrench[:3, 0], T + R * wrench[3:, 0]
+
+
+def effort_symbols(joint) -> list[Generated]:
+    """τ_<joint> of a one-speed joint, τ_<joint>_k of a joint with several speeds."""
+    names = [joint.name] if joint.dof == 1 else [f"{joint.name}_{k}" for k in range(joint.dof)]
+    return [Generated(f"tau_{x}", ("tau", x)) for x in names]
 
 
 def _constant(G: sp.Matrix, q: list) -> sp.Matrix | None:
@@ -239,17 +248,16 @@ def cut_equations(kin: Kinematics) -> CutEquations:
     normal = _planar_normal(kin)
     keep_F = [i for i in range(3) if i != normal]
     keep_T = [normal] if normal is not None else [0, 1, 2]
-    W, reaction_unknowns = {}, []
+    W, reaction_unknowns, body_axes = {}, [], []
     for b in system.bodies:
-        B, F, T = reaction_directions(kin, b), sp.zeros(3, 1), sp.zeros(3, 1)
-        for k in range(B.cols):
-            force, torque = (sub.inline(x) for x in (B[:3, k], B[3:, k]))
-            if normal is not None and (sp.expand(force[normal]) != 0 or any(sp.expand(torque[i]) != 0
-                                                                               for i in keep_F)):
+        F, T = sp.zeros(3, 1), sp.zeros(3, 1)
+        for r in reactions(kin, b):
+            if normal is not None and (sp.expand(r.force[normal]) != 0 or any(sp.expand(r.torque[i]) != 0
+                                                                                 for i in keep_F)):
                 continue  # out of the plane: decoupled, not part of the planar system
-            lam = Generated(*_reaction_label(b, b.joint.reaction_basis()[:, k], k))
-            reaction_unknowns.append(lam)
-            F, T = F + force * lam, T + torque * lam
+            reaction_unknowns.append(r.symbol)
+            body_axes += [r.symbol] if r.axes != WORLD else []
+            F, T = F + r.force * r.symbol, T + r.torque * r.symbol
         if b.joint.actuated and b.joint.dof:
             F, T = _efforts(kin, b, F, T)
         W[b] = (F, T)
@@ -258,7 +266,7 @@ def cut_equations(kin: Kinematics) -> CutEquations:
     for b, (f, t) in loop_loads.items():
         f0, t0 = ext.get(b, (sp.zeros(3, 1), sp.zeros(3, 1)))
         ext[b] = (f0 + f, t0 + t)
-    dynamic, kinematic, accelerations, substituted = [], [], [], []
+    balances, kinematic, accelerations, substituted = [], [], [], []
     for b in system.bodies:
         a = sp.Matrix([Generated(f"a_{b.name}_{c}", ("a", b.name, c)) for c in "xyz"])
         alpha = sp.Matrix([Generated(f"alpha_{b.name}_{c}", ("alpha", b.name, c)) for c in "xyz"])
@@ -275,17 +283,19 @@ def cut_equations(kin: Kinematics) -> CutEquations:
             (W[c][1] + (sub.inline(kin.p[c]) - r_S).cross(W[c][0]) for c in children), sp.zeros(3, 1))
         gyro = Omega.cross(Theta * Omega)
         for i in keep_F:
-            dynamic.append(b.mass * a[i] - newton_F[i])
+            balances.append(Balance(b.name, "Newton", "xyz"[i], b.mass * a[i], newton_F[i]))
             substituted.append(b.mass * a_of_ud[i] - newton_F[i])
             kinematic.append(a[i] - a_of_ud[i])
             accelerations.append(a[i])
         for i in keep_T:
-            dynamic.append((Theta * alpha)[i] + gyro[i] - euler_T[i])
+            balances.append(Balance(b.name, "Euler", "xyz"[i], (Theta * alpha)[i] + gyro[i], euler_T[i]))
             substituted.append((Theta * alpha_of_ud)[i] + gyro[i] - euler_T[i])
             kinematic.append(alpha[i] - alpha_of_ud[i])
             accelerations.append(alpha[i])
     unknowns = reaction_unknowns + loop_unknowns + list(ud)
-    return CutEquations(substituted + closing, unknowns, dynamic + closing, kinematic, accelerations, normal)
+    dynamic = [x.lhs - x.rhs for x in balances]
+    return CutEquations(substituted + closing, unknowns, dynamic + closing, kinematic, accelerations, normal,
+                        balances, body_axes)
 
 
 def _loop_cuts(kin: Kinematics, normal: int | None) -> tuple[dict, list, list]:

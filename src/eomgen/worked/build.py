@@ -74,6 +74,7 @@ def solution(
     all_steps = common + [s for m in methods for s in per_method[m]]
     if len(methods) > 1:
         all_steps.append(_comparison(derived, results, form))
+    all_steps.append(steps.assembled(first))
     return Solution(title or "Equations of motion", system, all_steps, methods, form, simplifier.left)
 
 

@@ -3,6 +3,7 @@ Jupyter display. Step texts carry their formulas as $...$ math and `code` in bac
 
 from __future__ import annotations
 
+import itertools
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -13,11 +14,12 @@ from ..model import Cylindrical, FreeFlyer, Helical, Prismatic, Revolute, Spheri
 from ..model.loads import Actuator, Damper, Force, Spring, Torque
 from ..escaping import PREAMBLE as NAMES_PREAMBLE
 from ..escaping import latex_text, markdown_text
+from ..methods.free_cut import effort_symbols
 from ..model.system import System
 from ..printing import latex, text
 from .compile import compile_pdf
 
-WIDTH = 90  # characters of LaTeX per line of a long sum
+WIDTH = 60  # printed characters (see `_visible`) per line of a long sum
 METHOD_TITLES = {
     "free_cut": "Newton-Euler with a free cut",
     "projected_newton_euler": "Projected Newton-Euler",
@@ -26,6 +28,7 @@ METHOD_TITLES = {
     "kane": "Kane's method",
     None: "Kinematics",
 }
+SECTIONS = {"Comparison of the methods": "Comparison", "Equations of motion": "The equations of motion"}
 LABELS = {
     "r_S": "r_{{S}}",
     "J_P": "J_{{P}}",
@@ -81,12 +84,13 @@ class Solution:
         """A complete LaTeX document (pdflatex): title, the system, one section per method, the
         comparison; written to `path` if given."""
         body = [r"\section{The system}", _description(self.system, "latex", digits)]
+        numbers = itertools.count(1)
         for section, steps in self._sections():
             body.append(rf"\section{{{section}}}")
             for step in steps:
                 body.append(rf"\subsection*{{{step.title}}}")
                 body.append(_prose(step.text, "latex"))
-                body.extend(_blocks(step, "latex", digits))
+                body.extend(_blocks(step, "latex", digits, numbers))
         document = "\n".join(
             [
                 PREAMBLE,
@@ -109,21 +113,18 @@ class Solution:
         """The same as Markdown with $$ math; written to `path` if given."""
         out = [f"# {markdown_text(self.title)}", "", "## The system", ""]
         out.append(_description(self.system, "markdown", digits))
+        numbers = itertools.count(1)
         for section, steps in self._sections():
             out += ["", f"## {section}"]
             for step in steps:
                 out += ["", f"### {step.title}", "", _prose(step.text, "markdown"), ""]
-                out.extend(_blocks(step, "markdown", digits))
+                out.extend(_blocks(step, "markdown", digits, numbers))
         return _write(path, "\n".join(out) + "\n")
 
     def _sections(self):
         sections: list = []
         for step in self.steps:
-            name = (
-                METHOD_TITLES.get(step.method, step.method)
-                if step.title != "Comparison of the methods"
-                else "Comparison"
-            )
+            name = SECTIONS.get(step.title) or METHOD_TITLES.get(step.method, step.method)
             if not sections or sections[-1][0] != name:
                 sections.append((name, []))
             sections[-1][1].append(step)
@@ -172,8 +173,9 @@ def label(name: str) -> str:
     return latex(sp.Symbol(name)) if name.isidentifier() and len(name) <= 3 else text(name)
 
 
-def _blocks(step, kind: str, digits: int) -> list[str]:
-    """Display math for each expression (and the shared definitions first)."""
+def _blocks(step, kind: str, digits: int, numbers) -> list[str]:
+    """Display math for each expression (and the shared definitions first), then the step's
+    equations, numbered from `numbers`, one per line."""
     lines = []
     if step.shared:
         lines.append(_prose("with the shared definitions", kind))
@@ -184,7 +186,21 @@ def _blocks(step, kind: str, digits: int) -> list[str]:
             lines.append(_display(r"\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}", kind))
     for name, expr in step.expressions.items():
         lines.append(_display(rf"{label(name)} = {_math(expr, digits)}", kind))
+    for group, equations in itertools.groupby(step.equations, key=lambda e: e.group):
+        lines.append(_prose(group, kind))
+        rows = [(_equation(e.eq, digits), next(numbers)) for e in equations]
+        if kind == "latex":  # \tag on a row's last line; align* breaks across pages
+            lines.append(r"\begin{align*}" + " \\\\\n".join(rf"&{r} \tag{{{n}}}" for r, n in rows)
+                         + r"\end{align*}")
+        else:
+            lines += [_display(rf"\begin{{aligned}}&{r}\end{{aligned}} \tag{{{n}}}", kind) for r, n in rows]
     return lines
+
+
+def _equation(eq: sp.Equality, digits: int) -> str:
+    """lhs = rhs, broken at the terms of either side into lines of about WIDTH characters."""
+    pieces = _pieces(eq.lhs, digits, first=True) + ["="] + _pieces(eq.rhs, digits, first=True)
+    return _lines(pieces)
 
 
 def _math(expr, digits: int) -> str:
@@ -192,7 +208,7 @@ def _math(expr, digits: int) -> str:
         isinstance(expr, sp.MatrixBase)
         and expr.cols == 1
         and expr.rows > 0
-        and len(latex(expr, digits)) > WIDTH
+        and _visible(latex(expr, digits)) > WIDTH
     ):
         rows = [_broken(e, digits) for e in expr]
         return (
@@ -200,7 +216,7 @@ def _math(expr, digits: int) -> str:
             + r" \\ ".join(rf"\begin{{aligned}}&{r}\end{{aligned}}" for r in rows)
             + r"\end{bmatrix}"
         )
-    if isinstance(expr, sp.MatrixBase) and len(latex(expr, digits)) > 4 * WIDTH:
+    if isinstance(expr, sp.MatrixBase) and _visible(latex(expr, digits)) > 4 * WIDTH:
         return (
             r"\left[\begin{aligned}"
             + r" \\ ".join(
@@ -219,9 +235,14 @@ def _broken(expr, digits: int) -> str:
     """A long expression broken into lines of about WIDTH characters (inside aligned): at the terms
     of a sum, and inside a long term's one parenthesised sum, m (a + b + ...) → m \\Big( a + b ... \\Big).
     """
+    return _lines(_pieces(sp.sympify(expr), digits, first=True))
+
+
+def _lines(pieces: list[str]) -> str:
+    """Pieces of LaTeX joined into lines of about WIDTH characters (inside aligned, after &)."""
     lines, current = [], ""
-    for piece in _pieces(sp.sympify(expr), digits, first=True):
-        if current and len(current) + len(piece) > WIDTH:
+    for piece in pieces:
+        if current and _visible(current) + _visible(piece) > WIDTH:
             lines.append(current)
             current = piece
         else:
@@ -230,10 +251,17 @@ def _broken(expr, digits: int) -> str:
     return r" \\ &\quad ".join(lines)
 
 
+def _visible(math: str) -> int:
+    """About how many characters wide LaTeX math prints: a command one, \\left, \\right, braces,
+    sub- and superscript marks none."""
+    math = re.sub(r"\\(left|right|mathrm|operatorname|Big)\b", "", math)
+    return len(re.sub(r"[{}^_ ]", "", re.sub(r"\\[A-Za-z]+", "x", math)))
+
+
 def _pieces(expr, digits: int, first: bool) -> list[str]:
     """LaTeX pieces that may stand on lines of their own, each sum term with its sign."""
     text = latex(expr, digits)
-    if len(text) <= (
+    if _visible(text) <= (
         WIDTH if isinstance(expr, sp.Add) else 1.4 * WIDTH
     ):  # a term: split only if far too long
         return [text if first or text.startswith("-") else "+ " + text]
@@ -306,24 +334,41 @@ def _joint(joint, c: Cells) -> str:
     return kind
 
 
+def _actuated(joint, c: Cells) -> str:
+    """"actuated (τ_x)" with the joint's efforts, or "passive" (`actuated=False`)."""
+    if not joint.dof:
+        return "fixed"
+    if not joint.actuated:
+        return "passive"
+    return "actuated " + c.math(", ".join(latex(t) for t in effort_symbols(joint)[: joint.efforts]))
+
+
 def _load(load, c: Cells) -> tuple[str, str]:
+    """The load's kind and what it is, with its points of action (body and coordinates in its frame)."""
     if isinstance(load, Force):
-        return "force", f"{c.math(latex(load.force.T))} on {c.body(load.point.body)}"
+        return "force", f"{c.math(latex(load.force.T))}{_axes(load)} on {_point(load.point, c)}"
     if isinstance(load, Torque):
-        return "torque", f"{c.math(latex(load.torque.T))} on {c.body(load.body)}"
+        return "torque", f"{c.math(latex(load.torque.T))}{_axes(load)} on {c.body(load.body)}"
     if isinstance(load, Actuator):
-        return "actuator", f"between {c.body(load.a.body)} and {c.body(load.b.body)}"
+        what = [] if load.torque is None else [f"torque {c.math(latex(load.torque.T))}{_axes(load)}"]
+        what += [] if load.force is None else [f"force {c.math(latex(load.force))} along the line"]
+        return "actuator", (f"{' and '.join(what)} on {_point(load.a, c)}, reaction on {_point(load.b, c)}")
     if isinstance(load, Spring):
-        return (
-            "spring",
-            (
-                f"{c.math(f'k = {latex(load.stiffness)}')}, {c.math(f'l_0 = {latex(load.rest_length)}')}, "
-                f"{c.body(load.a.body)} to {c.body(load.b.body)}"
-            ),
-        )
+        stiffness = c.math(f"k = {latex(load.stiffness)}") + ", " + c.math(f"l_0 = {latex(load.rest_length)}")
+        return "spring", f"{stiffness}, between {_point(load.a, c)} and {_point(load.b, c)}"
     if isinstance(load, Damper):
-        return "damper", c.math(f"c = {latex(load.damping)}")
+        damping = c.math(f"c = {latex(load.damping)}")
+        return "damper", f"{damping}, between {_point(load.a, c)} and {_point(load.b, c)}"
     return c.name(type(load).__name__), ""
+
+
+def _axes(load) -> str:
+    return " (body axes)" if load.in_body_frame else ""
+
+
+def _point(point, c: Cells) -> str:
+    """A point of action: its body (or the world) at its coordinates in that body's frame."""
+    return f"{c.body(point.body)} at {c.math('(' + ', '.join(latex(x) for x in point.offset) + ')')}"
 
 
 def _description(system: System, kind: str, digits: int) -> str:
@@ -334,7 +379,7 @@ def _description(system: System, kind: str, digits: int) -> str:
         [
             c.name(b.name),
             c.body(b.parent),
-            f"{c.name(b.joint.name)}: {_joint(b.joint, c)}",
+            f"{c.name(b.joint.name)}: {_joint(b.joint, c)}, {_actuated(b.joint, c)}",
             c.math(latex(b.mass, digits)),
             c.math(latex(b.com.T, digits)),
             c.math(_inertia(b.inertia, digits)),

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import sympy as sp
 
@@ -16,23 +17,37 @@ from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..kinematics import TIME
 from ..model import FreeFlyer
+from ..methods.free_cut import effort_symbols
 from ..model.loads import Point
+from ..printing import latex
 from ..textbook import Simplifier, chi, operations, shared
 
 LARGE = 400  # a closed form with more operations than this is shown through shared definitions
 
 
+class Equation(NamedTuple):
+    """A numbered equation lhs = rhs (`eq`, a sympy Equality) under the heading `group` (prose)."""
+
+    group: str
+    eq: sp.Equality
+
+
+def equation(group: str, lhs, rhs) -> Equation:
+    return Equation(group, sp.Eq(sp.sympify(lhs), sp.sympify(rhs), evaluate=False))
+
+
 @dataclass
 class Step:
-    """One step: a title, what is done and why, named expressions (sympy objects) and the shared
-    definitions χ_k they use, if any. The text is prose with $math$ and `code`; names and other
-    text from outside go in through `literal`."""
+    """One step: a title, what is done and why, named expressions (sympy objects), the shared
+    definitions χ_k they use, if any, and its scalar equations, one numbered line each. The text is
+    prose with $math$ and `code`; names and other text from outside go in through `literal`."""
 
     title: str
     text: str
     expressions: dict[str, sp.Basic] = field(default_factory=dict)
     method: str | None = None  # the method this step belongs to (None: common to all)
     shared: list[tuple[sp.Symbol, sp.Expr]] = field(default_factory=list)
+    equations: list[Equation] = field(default_factory=list)
 
     def __getitem__(self, name: str) -> sp.Basic:
         return self.expressions[name]
@@ -252,16 +267,18 @@ def free_cut(forms: Forms) -> list[Step]:
 
 
 def _cut(forms: Forms) -> Step:
-    eom = forms.eom
+    """The lecture's free cut: the kinematic relations, then per body its Newton and Euler rows with
+    them substituted, one scalar equation lhs = rhs each."""
+    eom, simplify = forms.eom, forms.simplifier
     cut = eom.cut_equations
     eqs, unknowns = cut.with_kinematics()
-    per_body = len(cut.dynamic) // len(eom.system.bodies)
-    forces = per_body - (1 if cut.planar_normal is not None else 3)
-    expressions = {}
-    for k, b in enumerate(eom.system.bodies):
-        rows = [forms.simplifier(e) for e in cut.dynamic[k * per_body : (k + 1) * per_body]]
-        expressions[f"Newton[{b.name}]"] = sp.Matrix(rows[:forces])
-        expressions[f"Euler[{b.name}]"] = sp.Matrix(rows[forces:])
+    accelerations = {a: simplify(a - row) for a, row in zip(cut.accelerations, cut.kinematic)}
+    heading = r"The kinematic relations of the accelerations, $a_S = J_P \ddot q + \dot J_P \dot q$ and "
+    heading += r"$\alpha = J_R \ddot q + \dot J_R \dot q$ (world axes):"
+    equations = [equation(heading, a, e) for a, e in accelerations.items()]
+    for x in cut.balances:
+        body = f"Body `{literal(x.body)}`: Newton (world axes) and Euler (about its centre of mass):"
+        equations.append(equation(body, x.lhs.xreplace(accelerations), simplify(x.rhs)))
     plane = (
         ""
         if cut.planar_normal is None
@@ -270,25 +287,53 @@ def _cut(forms: Forms) -> Step:
             " each body keeps 3 equations (2 forces, 1 moment)."
         )
     )
-    expressions.update(
-        {
-            "equations": sp.Integer(len(cut.equations)),
-            "unknowns": sp.Matrix(cut.unknowns),
-            "equations with kinematics": sp.Integer(len(eqs)),
-            "unknowns with kinematics": sp.Integer(len(unknowns)),
-        }
-    )
-    return forms.step(
+    axes, in_body_axes = _axes(cut)
+    actuation, efforts = _actuation(eom.system)
+    expressions = {
+        **in_body_axes,
+        **efforts,
+        "equations": sp.Integer(len(cut.equations)),
+        "unknowns": sp.Matrix([cut.unknowns]),
+        "equations with kinematics": sp.Integer(len(eqs)),
+        "unknowns with kinematics": sp.Integer(len(unknowns)),
+    }
+    step = forms.step(
         "Cut free",
-        r"Every body is cut free; the joints' reaction forces and torques enter as unknowns. "
-        r"Newton $m a_S - m \vec g - F = 0$ and Euler $\Theta \alpha + \Omega \times \Theta \Omega "
-        rf"- T = 0$ about the centre of mass.{plane} {len(cut.equations)} dynamic equations in "
+        r"Every body is cut free; the joints' reaction forces and torques enter as unknowns: "
+        r"$F_{i,x}$, $T_{i,z}$, ... act on body $i$ at its joint's origin, from its parent, which gets "
+        rf"$-F_i$, $-T_i$. {axes} {actuation} "
+        r"Newton $m a_S = m \vec g + F$ and Euler $\Theta \alpha + \Omega \times \Theta \Omega = T$ "
+        rf"about the centre of mass.{plane} {len(cut.equations)} dynamic equations in "
         rf"{len(cut.unknowns)} unknowns (the reactions and $\ddot q$); {len(eqs)} equations in "
-        rf"{len(unknowns)} unknowns with the kinematic relations of the accelerations "
-        r"$a_S = J_P \ddot q + \dot J_P \dot q$, $\alpha = J_R \ddot q + \dot J_R \dot q$.",
+        rf"{len(unknowns)} unknowns with the kinematic relations of the accelerations.",
         expressions,
         "free_cut",
     )
+    step.equations = equations
+    return step
+
+
+def _axes(cut) -> tuple[str, dict]:
+    """Which axes the reaction unknowns are in (world axes unless the joint's blocked directions turn)."""
+    if not cut.body_axes:
+        return "They are in world axes.", {}
+    return (
+        "They are in world axes except those in their body's axes (primed, below).",
+        {"unknowns in body axes": sp.Matrix([cut.body_axes])},
+    )
+
+
+def _actuation(system) -> tuple[str, dict]:
+    """The actuated joints, whose efforts τ enter, and the passive ones (`actuated=False`)."""
+    active = [j for j in system.joints if j.actuated and j.dof]
+    passive = [j for j in system.joints if not j.actuated and j.dof]
+    text, expressions = "", {}
+    if active:
+        text += "The actuated joints add their efforts (below). "
+        expressions["efforts"] = sp.Matrix([[t for j in active for t in effort_symbols(j)]])
+    if passive:
+        text += "Passive joints (no effort): " + ", ".join(f"`{literal(j.name)}`" for j in passive) + "."
+    return text.strip(), expressions
 
 
 def contacts(forms: Forms) -> Step:
@@ -319,3 +364,40 @@ def contacts(forms: Forms) -> Step:
         r"symbolic inversion.",
         expressions,
     )
+
+
+LOAD_FORMULAS = {  # how each kind of load enters τ (the lecture's τ = Σ J_Pᵀ F + J_Rᵀ T)
+    "Force": r"a force $F$ at a point $P$: $\tau = J_P^T F$",
+    "Torque": r"a torque $T$ on a body: $\tau = J_R^T T$",
+    "Actuator": r"an actuator on body $A$ with reaction on $B$: $\tau = (J_{R,A} - J_{R,B})^T T + "
+    r"(J_{P,A} - J_{P,B})^T F$",
+    "Spring": r"a spring from $P_a$ to $P_b$: $\tau = (J_{P_b} - J_{P_a})^T F_s$, "
+    r"$F_s = -k (\lVert r_b - r_a \rVert - l_0) e_{ab}$ the force on $P_b$",
+    "Damper": r"a damper from $P_a$ to $P_b$: $\tau = (J_{P_b} - J_{P_a})^T F_d$, "
+    r"$F_d = -c (e_{ab}^T (v_b - v_a)) e_{ab}$",
+}
+
+
+def assembled(forms: Forms) -> Step:
+    """The equations of motion M(q) q̈ + b + g = Sᵀ τ + Σ τ_load, one row per coordinate (textbook
+    form), with each load's τ."""
+    system, results = forms.eom.system, forms.results
+    loads = {k: v for k, v in results.items() if k.startswith("tau[")}
+    active = [b.joint for b in system.bodies if b.index is not None and b.joint.actuated]
+    efforts = [t for j in active for t in effort_symbols(j)[: j.efforts]]
+    rhs = (system.S.T * sp.Matrix(efforts) if efforts else sp.zeros(len(system.u), 1))
+    rhs += sum((sp.Matrix(t) for t in loads.values()), sp.zeros(len(system.u), 1))
+    kinds = dict.fromkeys(type(load).__name__ for load in system.loads)
+    how = "; ".join(LOAD_FORMULAS[k] for k in kinds if k in LOAD_FORMULAS)
+    text = (
+        r"Collected: $M(q) \ddot q + b(q, \dot q) + g(q) = S^T \tau + \sum \tau_{load}$, the efforts $\tau$ "
+        "of the actuated joints only"
+        + (f", and each load through the Jacobians of its points of action ({how})." if how else ".")
+    )
+    step = forms.step("Equations of motion", text, dict(loads))
+    if forms.form != "shared":
+        M, b, g = (sp.Matrix(results[k]) for k in ("M", "b", "g"))
+        heading = "One row per coordinate:"
+        lhs = M * sp.Matrix(system.ud) + b + g
+        step.equations = [equation(heading, lhs[i], rhs[i]) for i in range(len(system.u))]
+    return step
