@@ -21,6 +21,7 @@ from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
 from .rhs import StateFunctions
 from .runtime import mpmath_functions, runtime_namespace
+from .singular import singular_mass_matrix
 
 _runtime = runtime_namespace()
 _call, _inputs = _runtime["_call"], _runtime["_inputs"]
@@ -43,11 +44,16 @@ class Generated:
 
 
 def reads(source: str) -> dict[str, list[int]]:
-    """The entries of q, u, ud and p a generated function reads."""
-    found: dict[str, list[int]] = {"q": [], "u": [], "ud": [], "p": []}
+    """The entries of q, u, ud and p a generated function reads, each once, in order."""
+    found: dict[str, set[int]] = {"q": set(), "u": set(), "ud": set(), "p": set()}
     for arg, k in re.findall(r"\b_(q|u|ud|p)(\d+) =", source):
-        found[arg].append(int(k))
-    return found
+        found[arg].add(int(k))
+    return {arg: sorted(ks) for arg, ks in found.items()}
+
+
+def listed(used: dict[str, list[int]]) -> str:
+    """The entries read, as a header lists them: "q[0, 2]; p[1]" (or "nothing")."""
+    return "; ".join(f"{arg}[{', '.join(map(str, ks))}]" for arg, ks in used.items() if ks) or "nothing"
 
 
 # the functions of the equations, and what they compute
@@ -282,7 +288,11 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
         singularity."""
         if np.ndim(q) == 1:
             self.euler_singularity(q, params=params)
-        return np.linalg.solve(self.M(q, params), self._h(q, u, tau_a, params)[..., None])[..., 0]
+        M = self.M(q, params)
+        try:
+            return np.linalg.solve(M, self._h(q, u, tau_a, params)[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            raise singular_mass_matrix(self.eom.system, M, "forward_dynamics") from None
 
     def qdot(self, q, u, params=None) -> np.ndarray:
         """q̇(q, u) (`System.qdot`: u itself but for quaternions, whose rates depend on q)."""
