@@ -11,7 +11,7 @@ import sympy as sp
 
 from ..constraint_rows import tilts
 from ..eom import EquationsOfMotion
-from ..errors import ModelError
+from ..errors import ByName, ModelError, unknown
 from ..methods.kane import KaneEquations
 from ..state import random_states
 from .contacts import contact_dynamics, refuse_flat, support_projector
@@ -237,7 +237,7 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
     def tau_of(self, load: str, q, u, params=None) -> np.ndarray:
         """Generalized force of one load, by name."""
         if load not in self.eom.load_names:
-            raise ModelError(f"unknown load {load!r}; loads are {self.eom.load_names}")
+            raise unknown("load", load, self.eom.load_names)
         self._function(key := f"tau:{load}", lambda: self.eom.compact[f"tau:{load}"])
         return self.call(key, q, u, params=params)[..., 0]
 
@@ -251,7 +251,7 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
         """Reaction force and torque of every joint (world axes, at the joint origin), with u̇ from
         the forward dynamics unless given (free cut)."""
         ud = self.forward_dynamics(q, u, tau_a, params) if ud is None else ud
-        out = {}
+        out = ByName("joint", {})
         for joint in self._free_cut("reactions", None):
             self._function(key := f"R:{joint}", lambda: self._free_cut("reactions", joint))
             W = self.call(key, q, u, ud, params)[..., 0]
@@ -261,7 +261,7 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
     def _free_cut(self, key: str, joint: str | None):
         results = self.eom._free_cut_result(key)
         if joint is not None and joint not in results:
-            raise ModelError(f"unknown joint {joint!r}; joints are {sorted(results)}")
+            raise unknown("joint", joint, results)
         return results[joint] if joint is not None else results
 
     def _h(self, q, u, tau_a, params) -> np.ndarray:

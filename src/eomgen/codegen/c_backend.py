@@ -155,8 +155,9 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
         source, (rows, cols), _ = sources[key] = c.source(f"{name}_{key}", expr, symmetric)
         body.append(source)
         named = "".join(f"\n *   row {r}: {comment(row)}" for r, row in enumerate(names))
+        declaration = C.header.format(name=f"{name}_{key}").split("\n")[0]
         decls.append(f"/* {comment(what)}{named}\n * out: {rows} x {cols}, row-major; reads "
-                     f"{listed(reads(source))} */\n{C.header.format(name=f'{name}_{key}').split(chr(10))[0]};")
+                     f"{listed(reads(source))} */\n{declaration};")
     texts = {key: source for key, (source, _, _) in sources.items()}
     if derivatives and (forward := plain_function(eom, name, texts)):
         body.append(forward[0])
