@@ -17,7 +17,7 @@ P = {"m_c": 1.3, "m_p": 0.6, "l": 0.8, "g": 9.81, "k": 25.0, "F": 2.5}
 
 
 def spring_cart_pendulum(frame: str = "tip"):
-    """The README's cart-pendulum (only the cart actuated) with a spring from the world origin to the
+    """The getting-started cart-pendulum (only the cart actuated) with a spring from the world origin to the
     pendulum's tip and a horizontal force F on the cart."""
     m_c, m_p, l, g, k, F = sp.symbols("m_c m_p l g k F", positive=True)
     system = eg.System(gravity=(0, -g, 0))
