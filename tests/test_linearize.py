@@ -268,7 +268,7 @@ def test_bad_input():
     with pytest.raises(eg.ModelError, match="op_point: expected .q0, speeds"):
         eg.linearize(eom, np.zeros(4), params=CART_POLE)
     with pytest.raises(
-        eg.ModelError, match=r"params: values missing for the parameters \['g', 'l', 'm_p'\]"
+        eg.ModelError, match=r"params: values missing for the parameters \['g', 'l', 'm_c', 'm_p'\]"
     ):
         eg.linearize(eom, zero)
     with pytest.raises(eg.ModelError, match=r"params: expected a mapping \{name: value\}, got list"):

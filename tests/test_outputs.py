@@ -17,7 +17,7 @@ P = {"m_c": 1.3, "m_p": 0.6, "l": 0.8, "g": 9.81, "k": 25.0, "F": 2.5}
 
 
 def spring_cart_pendulum(frame: str = "tip"):
-    """The README's cart-pendulum (only the cart actuated) with a spring from the world origin to the
+    """The getting-started cart-pendulum (only the cart actuated) with a spring from the world origin to the
     pendulum's tip and a horizontal force F on the cart."""
     m_c, m_p, l, g, k, F = sp.symbols("m_c m_p l g k F", positive=True)
     system = eg.System(gravity=(0, -g, 0))
@@ -242,7 +242,8 @@ def test_header_documents_and_cannot_be_injected(tmp_path):
     header = h.read_text()
     code = re.sub(r"/\*.*?\*/", "", header, flags=re.S)  # what the compiler sees
     assert "injected" not in code and header.count("*/") == header.count("/*")
-    for line in ["q[1]: phi", "u[0]: xdot", "p[0]: F", "p[5]: m_p", "tau_a[0]: joint x, adds to tau[0]",
+    for line in ["q[1]: phi", "u[0]: qd_x = d/dt q[0]", "p[0]: F", "p[5]: m_p",
+                 "tau_a[0]: joint x, adds to tau[0]",
                  "#define CP_NP 6", "zeroed by the caller"]:
         assert line in header, line
     g_doc = header[header.index("gravity terms"):header.index("void cp_g(")]

@@ -71,6 +71,9 @@ def main(argv: list[str] | None = None) -> int:
     gen.add_argument("--method", default="recursive", choices=sorted(METHODS))
     gen.add_argument("--c", action="store_true", help="write <name>.c and <name>.h (M, b, g, end-frame J, J̇u)")
     gen.add_argument("--name", default="eom", help="with --c: the C prefix and file name (default eom)")
+    gen.add_argument("--frames", nargs="+", metavar="NAME",
+                     help="frames whose J, J̇u and placement to write (default: with --c the end frames, "
+                          "else every body and frame)")
     so = sub.add_parser("solve", help="a worked solution of the system defined in a Python file")
     so.add_argument("file", help="a Python file that defines `system` (an eomgen.System or KaneEquations)")
     so.add_argument("-o", "--output", required=True, help="solution.tex, solution.md or solution.pdf")
@@ -111,10 +114,10 @@ def main(argv: list[str] | None = None) -> int:
         if args.c:
             from .verify import end_frames
 
-            frames = end_frames(system)
+            frames = args.frames or end_frames(system)
             paths = write_c(derive(system, method=args.method, frames=frames), args.output, name=args.name)
         else:
-            paths = [write_module(derive(system, method=args.method), args.output)]
+            paths = [write_module(derive(system, method=args.method), args.output, frames=args.frames)]
         print(f"wrote {', '.join(map(str, paths))} ({system.nq} coordinates) in {time.perf_counter() - t0:.2f} s")
         return 0
     except ModelError as exc:

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .display import equations_markdown, equations_math
-from .errors import ModelError
+from .errors import ByName, ModelError, unknown
 from .kinematics import Kinematics
 from .model.system import System
 from .subexpressions import Subexpressions
@@ -96,7 +96,12 @@ class EquationsOfMotion(ClosedForms):
         return [k.split(":", 1)[1] for k in self.compact if k.startswith("tau:")]
 
     def tau_of(self, load: str) -> sp.Matrix:
-        """Generalized force of one load (by name)."""
+        """Generalized force of one load (by name); an unknown name is refused with the loads' names."""
+        if load not in self.load_names:
+            if any(x.name == load for x in self.system.loads):
+                raise ModelError(f"load '{load}' was added after these equations were derived: "
+                                 "derive them again")
+            raise unknown("load", load, self.load_names)
         return self._closed_form(f"tau:{load}")
 
     @property
@@ -125,15 +130,15 @@ class EquationsOfMotion(ClosedForms):
     def joint_wrenches(self) -> dict[str, tuple[sp.Matrix, sp.Matrix]]:
         """Per joint, the force and torque the parent exerts on the body at the joint origin (world
         axes), in q, u, u̇ and the loads: the reaction plus the joint force along the free direction."""
-        return {j: self._split(self.subexpressions.inline(W))
-                for j, W in self._free_cut_result("joint_wrenches").items()}
+        return ByName("joint", {j: self._split(self.subexpressions.inline(W))
+                                for j, W in self._free_cut_result("joint_wrenches").items()})
 
     @property
     def reactions(self) -> dict[str, tuple[sp.Matrix, sp.Matrix]]:
         """Per joint, the reaction force and torque (world axes, at the joint origin): the joint
         wrench without its component along the joint's free direction."""
-        return {j: self._split(self.subexpressions.inline(W))
-                for j, W in self._free_cut_result("reactions").items()}
+        return ByName("joint", {j: self._split(self.subexpressions.inline(W))
+                                for j, W in self._free_cut_result("reactions").items()})
 
     @property
     def cut_equations(self):

@@ -11,7 +11,7 @@ import sympy as sp
 
 from ..constraint_rows import tilts
 from ..eom import EquationsOfMotion
-from ..errors import ModelError
+from ..errors import ByName, ModelError, unknown
 from ..methods.kane import KaneEquations
 from ..state import random_states
 from .contacts import contact_dynamics, refuse_flat, support_projector
@@ -21,6 +21,7 @@ from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
 from .rhs import StateFunctions
 from .runtime import mpmath_functions, runtime_namespace
+from .singular import singular_mass_matrix
 
 _runtime = runtime_namespace()
 _call, _inputs = _runtime["_call"], _runtime["_inputs"]
@@ -43,11 +44,16 @@ class Generated:
 
 
 def reads(source: str) -> dict[str, list[int]]:
-    """The entries of q, u, ud and p a generated function reads."""
-    found: dict[str, list[int]] = {"q": [], "u": [], "ud": [], "p": []}
+    """The entries of q, u, ud and p a generated function reads, each once, in order."""
+    found: dict[str, set[int]] = {"q": set(), "u": set(), "ud": set(), "p": set()}
     for arg, k in re.findall(r"\b_(q|u|ud|p)(\d+) =", source):
-        found[arg].append(int(k))
-    return found
+        found[arg].add(int(k))
+    return {arg: sorted(ks) for arg, ks in found.items()}
+
+
+def listed(used: dict[str, list[int]]) -> str:
+    """The entries read, as a header lists them: "q[0, 2]; p[1]" (or "nothing")."""
+    return "; ".join(f"{arg}[{', '.join(map(str, ks))}]" for arg, ks in used.items() if ks) or "nothing"
 
 
 # the functions of the equations, and what they compute
@@ -231,7 +237,7 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
     def tau_of(self, load: str, q, u, params=None) -> np.ndarray:
         """Generalized force of one load, by name."""
         if load not in self.eom.load_names:
-            raise ModelError(f"unknown load {load!r}; loads are {self.eom.load_names}")
+            raise unknown("load", load, self.eom.load_names)
         self._function(key := f"tau:{load}", lambda: self.eom.compact[f"tau:{load}"])
         return self.call(key, q, u, params=params)[..., 0]
 
@@ -245,7 +251,7 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
         """Reaction force and torque of every joint (world axes, at the joint origin), with u̇ from
         the forward dynamics unless given (free cut)."""
         ud = self.forward_dynamics(q, u, tau_a, params) if ud is None else ud
-        out = {}
+        out = ByName("joint", {})
         for joint in self._free_cut("reactions", None):
             self._function(key := f"R:{joint}", lambda: self._free_cut("reactions", joint))
             W = self.call(key, q, u, ud, params)[..., 0]
@@ -255,7 +261,7 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
     def _free_cut(self, key: str, joint: str | None):
         results = self.eom._free_cut_result(key)
         if joint is not None and joint not in results:
-            raise ModelError(f"unknown joint {joint!r}; joints are {sorted(results)}")
+            raise unknown("joint", joint, results)
         return results[joint] if joint is not None else results
 
     def _h(self, q, u, tau_a, params) -> np.ndarray:
@@ -282,7 +288,11 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
         singularity."""
         if np.ndim(q) == 1:
             self.euler_singularity(q, params=params)
-        return np.linalg.solve(self.M(q, params), self._h(q, u, tau_a, params)[..., None])[..., 0]
+        M = self.M(q, params)
+        try:
+            return np.linalg.solve(M, self._h(q, u, tau_a, params)[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            raise singular_mass_matrix(self.eom.system, M, "forward_dynamics") from None
 
     def qdot(self, q, u, params=None) -> np.ndarray:
         """q̇(q, u) (`System.qdot`: u itself but for quaternions, whose rates depend on q)."""

@@ -14,7 +14,8 @@ from .. import __version__
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..progress import progress
-from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantities, reads, writer, written
+from . import (QUANTITIES, Generated, NumericEoM, equations, expression, listed, quantities, reads, writer,
+               written)
 from .c_derivatives import CompiledDerivatives, plain_function, plain_parts
 from .extension import build, compile_module, compiled, compiler, python_headers
 from .kinematic_functions import placement
@@ -153,10 +154,10 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
     for key, expr, symmetric, what, names in progress(parts, "writing C", unit="function"):
         source, (rows, cols), _ = sources[key] = c.source(f"{name}_{key}", expr, symmetric)
         body.append(source)
-        used = "; ".join(f"{arg}[{', '.join(map(str, ks))}]" for arg, ks in reads(source).items() if ks)
         named = "".join(f"\n *   row {r}: {comment(row)}" for r, row in enumerate(names))
+        declaration = C.header.format(name=f"{name}_{key}").split("\n")[0]
         decls.append(f"/* {comment(what)}{named}\n * out: {rows} x {cols}, row-major; reads "
-                     f"{used or 'nothing'} */\n{C.header.format(name=f'{name}_{key}').split(chr(10))[0]};")
+                     f"{listed(reads(source))} */\n{declaration};")
     texts = {key: source for key, (source, _, _) in sources.items()}
     if derivatives and (forward := plain_function(eom, name, texts)):
         body.append(forward[0])
@@ -165,6 +166,17 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
     c_path.write_text("\n".join(body))
     h_path.write_text(header(eom, name) + "\n\n".join(decls) + "\n\n#endif\n")
     return c_path, h_path
+
+
+def speed_labels(system) -> list[str]:
+    """The speeds as a header names them: qd_<coordinate> where u_k is a coordinate's rate q̇_i, else their
+    own names (the twist of a free flyer or ball joint: base_vx, ..., ball_wz)."""
+    u = list(system.u)
+    labels = [str(x) for x in u]
+    for i, (q, rate) in enumerate(zip(system.q, system.qdot)):
+        if rate in u:
+            labels[u.index(rate)] = f"qd_{q} = d/dt q[{i}]"
+    return labels
 
 
 def header(eom: EquationsOfMotion, name: str) -> str:
@@ -184,7 +196,7 @@ def header(eom: EquationsOfMotion, name: str) -> str:
              " *       so out must be zeroed by the caller.",
              " * Entries:"]
     lines += [f" *   q[{k}]: {comment(x)}" for k, x in enumerate(eom.q)]
-    lines += [f" *   u[{k}]: {comment(x)}" for k, x in enumerate(eom.u)]
+    lines += [f" *   u[{k}]: {comment(x)}" for k, x in enumerate(speed_labels(eom.system))]
     lines += [f" *   p[{k}]: {comment(x)}" for k, x in enumerate(params)]
     lines += [f" *   tau_a[{r}]: joint {comment(label)}, adds to tau[{list(eom.S.row(r)).index(1)}] "
               "(S^T tau_a)" for r, label in enumerate(actuated)]

@@ -15,7 +15,7 @@ import dataclasses
 import numpy as np
 
 from ..errors import ModelError
-from . import reads
+from . import listed, reads
 from .numpy_backend import C, C_TRIG, Syntax
 from .derivative_functions import efforts, forward_dynamics, forward_key, forward_parts, jacobians
 from .vector import vector_sources
@@ -135,14 +135,12 @@ def plain_function(eom, name: str, sources: dict[str, str]) -> tuple[str, str] |
     key, nv = forward_key(eom), len(eom.u)
     text = forward_derivatives_source(f"{name}_FD_derivatives", f"{name}_FD_parts", f"{name}_{key}", nv, C)
     used = reads(sources["FD_parts"] + sources[key])
-    read = "; ".join(
-        f"{arg}[{', '.join(map(str, sorted(set(ks))))}]" for arg, ks in used.items() if ks and arg != "ud"
-    )
+    read = listed({arg: ks for arg, ks in used.items() if arg != "ud"})
     declaration = (
         "/* [∂u̇/∂q | ∂u̇/∂u | ∂u̇/∂τ] of the forward dynamics M u̇ = τ + τ_loads − b − g at q, u, τ (NV "
         "joint efforts,\n * in the place of ud); out: NV x 3 NV, row-major, every entry written (NaN "
         "where M is not positive definite);\n * reads "
-        f"{read or 'nothing'}, tau */\n"
+        f"{read}, tau */\n"
         + C.header.format(name=f"{name}_FD_derivatives").split("\n")[0].replace("*ud", "*tau")
         + ";"
     )

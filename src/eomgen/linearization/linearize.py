@@ -63,6 +63,8 @@ def linearize(
             "state: give them in op_point"
         )
     values = {**given, **dict(zip(currents, op.currents))}
+    if not symbolic:  # every missing value named at once, not piece by piece
+        model.parameters.vector(values, model.pieces.parameters_used())
     point = Point(op.q, values, [*currents, *chosen.parameters], {}, 0, algebra)
     standin, at = _numbers(point, model) if symbolic else (point, {})
     dependent = case.dependent(standin)

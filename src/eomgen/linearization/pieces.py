@@ -60,6 +60,13 @@ class Pieces:
         )
         self.functions: dict[tuple, Generated] = {}
 
+    def parameters_used(self) -> list[int]:
+        """The indices of the parameters any piece needs (through its intermediates)."""
+        exprs = [x for matrix, _ in self.exprs.values() for x in sp.Matrix(matrix)]
+        needed = set().union(*(sp.sympify(x).free_symbols for x in exprs),
+                             *(self.sub.definitions[s].free_symbols for s in self.sub.dependencies(exprs)))
+        return [k for k, p in enumerate(self.parameters.symbols) if p in needed]
+
     def _matrix(self, name: str, family: str | None, chosen: list) -> sp.Matrix:
         """The piece (family None), or its Jacobian (r c × seeds, rows of the piece row by row)."""
         expr = sp.Matrix(self.exprs[name][0])

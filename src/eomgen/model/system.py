@@ -222,6 +222,11 @@ class System:
             raise ModelError(f"body name must be a non-empty string, got {name!r}")
         if name in self._bodies or name in self.frames:
             raise ModelError(f"duplicate name '{name}': a body or frame of that name exists")
+        swapped = [f"joint '{parent.name}' given as parent" if isinstance(parent, Joint) else "",
+                   f"body '{joint.name}' given as joint" if isinstance(joint, Body) else ""]
+        if any(swapped):
+            raise ModelError(f"body '{name}': {' and '.join(filter(None, swapped))}; the order is "
+                             "add_body(name, parent, joint): pass them as parent=..., joint=...")
         if parent is not None:
             if parent == name:
                 raise ModelError(f"body '{name}' cannot be its own parent (a loop in the tree)")
