@@ -11,7 +11,7 @@ Loop between frames a and b (world axes, J = J_a − J_b in the constrained dire
 Rolling disk (centre p, axle e = R axis, ground normal n and tangents t1, t2, height h = n · p_ground)::
 
     c = ρ d / s,  d = e × (e × n) = (e · n) e − n (toward the ground in the disk's plane),
-    s = |e × n| = |d| (the sine of the axle's angle to the normal),  r = n · (p + c) − h = n · p − ρ s − h,
+    s = ‖e × n‖ = ‖d‖ (the sine of the axle's angle to the normal),  r = n · (p + c) − h = n · p − ρ s − h,
     v = v_p + ω × c (the disk's material point at the contact), J = [t1; t2; n] (J_P + J_R × c),
     J̇u = [t1; t2; n] (a_p + α × c + ω × ċ), ċ = ∂c/∂q q̇.
 
@@ -64,7 +64,7 @@ def loop_rows(kin, loop: Loop) -> Rows:
 
 
 def tilt(kin, disk: Rolling) -> tuple[sp.Matrix, sp.Matrix, sp.Expr]:
-    """(e, e × n, s): the disk's axle e = R axis (world axes), and s = |e × n|, the sine of its angle to
+    """(e, e × n, s): the disk's axle e = R axis (world axes), and s = ‖e × n‖, the sine of its angle to
     the ground normal n (0: lying flat, no contact point)."""
     e = kin.sub.add_matrix(matmul(kin.R[disk.body], disk.axis))
     w = kin.sub.add_matrix(cross(e, disk.ground.rotation[:, 2]))
@@ -72,7 +72,7 @@ def tilt(kin, disk: Rolling) -> tuple[sp.Matrix, sp.Matrix, sp.Expr]:
 
 
 def tilts(kin) -> sp.Matrix:
-    """s = |e × n| of every rolling disk (a column, `tilt`)."""
+    """s = ‖e × n‖ of every rolling disk (a column, `tilt`)."""
     return sp.Matrix([tilt(kin, disk)[2] for disk in kin.system.rolling])
 
 

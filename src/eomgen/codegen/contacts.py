@@ -30,11 +30,11 @@ COND_LIMIT = 1e8  # κ beyond which a solve keeps fewer than half the digits (κ
 RANK_RTOL = 1e-10  # σ / σ_max below it (κ beyond 1e20): a row that repeats others
 
 
-FLAT = float(np.sqrt(np.finfo(float).eps))  # s = |e × n| below which a rolling disk counts as lying flat
+FLAT = float(np.sqrt(np.finfo(float).eps))  # s = ‖e × n‖ below which a rolling disk counts as lying flat
 
 
 def refuse_flat(disks: list, s) -> None:
-    """Refuse a state where a rolling disk lies (nearly) flat: s = |e × n| (the sine of its axle's angle to
+    """Refuse a state where a rolling disk lies (nearly) flat: s = ‖e × n‖ (the sine of its axle's angle to
     the ground normal, per disk; states along the first axes) below FLAT = √ε. Its contact point, the rim's
     lowest point c = ρ e × (e × n) / s, turns by δe / s for a change δe of the axle: it keeps fewer than
     half its digits there, and at s = 0 it is undefined."""

@@ -56,7 +56,7 @@ class KaneEquations(ClosedForms):
     "C" ([C | c0], m × (n + 1)), "rates" ([d/dt(Y u + K w + k0); d/dt(C w + c0)] at u̇ = 0, ẇ = 0) and
     "qdot" (q̇(q, u), nq × 1, `System.qdot`) and "holonomic" ([f | ∂f/∂q_dep], k × (k + 1), the
     configuration constraints f(q) = 0 and their Jacobian in the dependent coordinates) and "tilt" (each
-    rolling disk's |e × n|, `constraint_rows.tilt`)."""
+    rolling disk's ‖e × n‖, `constraint_rows.tilt`)."""
 
     system: System
     kinematics: Kinematics
