@@ -63,3 +63,8 @@ html_theme = "furo"
 html_title = f"eomgen {release}"
 html_static_path = []
 mathjax_path = "mathjax/tex-chtml.js"  # in _static, where sphinx-mathjax-offline puts MathJax
+mathjax3_config = {  # Sphinx writes math as \(...\) and \[...\]: only these are math ("$$" in prose is text)
+    "tex": {"inlineMath": [["\\(", "\\)"]], "displayMath": [["\\[", "\\]"]], "processEnvironments": False,
+            "packages": {"[+]": ["textmacros"]}},  # \text{cart\_force} as LaTeX writes it
+    "loader": {"load": ["[tex]/textmacros"]},
+}

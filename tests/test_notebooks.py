@@ -56,8 +56,9 @@ sim = eg.simulate(eg.codegen(eg.derive(system)), ([0.3], [0.0]), (0.0, 1.0))"""
 
 
 def test_plain_kernel_shows_plot_and_animation(tmp_path, monkeypatch):
-    """eg.plot(sim) as the last line of a cell: a PNG of the figure's size (4 rows of 2.5 by 8 inches at
-    matplotlib's 100 dpi: 800 × 750 px); eg.animate(sim, frames=3): a player with its 3 frames as PNGs."""
+    """eg.plot(sim) as the last line of a cell: a PNG of the figure's size (3 rows of 2.5 by 8 inches at
+    matplotlib's 100 dpi: 800 × 750 px); eg.animate(sim, frames=3): a player with its 3 frames as PNGs that
+    loads nothing from the network (no http(s) address in it)."""
     cells = [PENDULUM, "eg.plot(sim)", "eg.animate(sim, frames=3)"]
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(c) for c in cells])
     _execute(nb, tmp_path, monkeypatch)
@@ -66,3 +67,4 @@ def test_plain_kernel_shows_plot_and_animation(tmp_path, monkeypatch):
     assert png.format == "PNG" and png.size == (800, 750)
     html = player.data["text/html"]
     assert html.count("data:image/png;base64") == 3 and "Animation" in html
+    assert "http:" not in html and "https:" not in html

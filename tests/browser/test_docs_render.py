@@ -1,7 +1,7 @@
 """The built documentation opened in headless Chromium (Debian's chromium, driven by Playwright) with every
 request that leaves the build refused: each page with math has it typeset by MathJax 3 (mjx-container
 elements; no merror, no undefined macro drawn in red), every notebook page has math, and no page shows
-raw LaTeX (\\( \\[ $$ \\begin), a Markdown table (| --- |) or a progress bar (0%|) in its text.
+raw LaTeX (\\( \\[ $$...$$ \\begin), a Markdown table (| --- |) or a progress bar (0%|) in its text.
 
 Run after the docs are built: `pytest -m browser tests/browser` (.ci/run does); the build is read from
 docs/_build/html or $EOMGEN_DOCS_HTML, Chromium from /usr/bin/chromium or $EOMGEN_CHROMIUM, and with
@@ -24,7 +24,8 @@ SOURCES = sorted(
     for p in (ROOT / "docs").rglob("*")
     if p.suffix in (".md", ".ipynb") and not {"_build", ".ipynb_checkpoints"} & set(p.parts)
 )
-RAW = re.compile(r"\\\(|\\\[|\$\$|\\begin\{|\|\s*:?-{3,}:?\s*\||\d%\|")
+RAW = re.compile(  # \( or \[; $$...$$ or $...\macro...$; \begin{; a Markdown table's rule; a tqdm bar
+    r"\\\(|\\\[|\$\$[^$]+\$\$|\$[^$\n]*\\[A-Za-z]+[^$\n]*\$|\\begin\{|\|\s*:?-{3,}:?\s*\||\d%\|")
 
 TYPESET = """() => {  // each typeset formula's LaTeX, and those MathJax drew as an error
     const math = Array.from(MathJax.startup.document.math), errors = [];
