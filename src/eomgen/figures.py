@@ -24,8 +24,8 @@ class ShownFigure(Figure):
 
 
 ICONS = {  # matplotlib's player buttons (Font Awesome classes) as characters
-    "fa-minus": "−", "fa-fast-backward": "⏮", "fa-step-backward": "◁", "fa-pause": "❚❚", "fa-play": "▶",
-    "fa-play fa-flip-horizontal": "◀", "fa-step-forward": "▷", "fa-fast-forward": "⏭", "fa-plus": "+",
+    "fa-minus": "−", "fa-fast-backward": "⇤", "fa-step-backward": "◁", "fa-pause": "❚❚", "fa-play": "▶",
+    "fa-play fa-flip-horizontal": "◀", "fa-step-forward": "▷", "fa-fast-forward": "⇥", "fa-plus": "+",
 }
 ICON = re.compile(r'<i class="fa ([a-z -]+)"></i>')
 CDN = re.compile(r'<link rel="stylesheet"\s+href="https?://[^"]*font-awesome[^"]*">')
