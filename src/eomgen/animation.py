@@ -94,7 +94,7 @@ def animate(
     """The motion of `simulation` as a stick figure (see the module doc), drawn from the placements of
     `system_or_functions` (default: the simulation's functions): `frames` images evenly spaced in time
     (default real time at `fps`), saved to `path` when given (".gif": Pillow, ".mp4": ffmpeg). Returns the
-    `FuncAnimation`; in a notebook show it with `IPython.display.HTML(anim.to_jshtml())`."""
+    `FuncAnimation`, which a notebook shows as a player by itself (`eomgen.figures.ShownAnimation`)."""
     from matplotlib.animation import writers  # matplotlib only when drawing
 
     if not isinstance(simulation, Simulation):
@@ -146,9 +146,10 @@ def _known(f: NumericEoM, simulation: Simulation) -> dict:
 def _drawing(at, times, lines, dots, crosses, basis, size, fps) -> tuple[FuncAnimation, Callable]:
     """The animation of `at` (frames, K, 3) world points, projected on `basis` if planar, at its first
     frame, and the function drawing frame n."""
-    from matplotlib.animation import FuncAnimation
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+
+    from .figures import ShownAnimation
 
     fig = Figure(figsize=size, dpi=80)  # no layout engine: the frames are drawn fast, all alike
     FigureCanvasAgg(fig)
@@ -181,7 +182,7 @@ def _drawing(at, times, lines, dots, crosses, basis, size, fps) -> tuple[FuncAni
         return [*drawn, body, frame, clock]
 
     draw(0)
-    return FuncAnimation(fig, draw, frames=len(times), interval=1000 / fps, blit=False), draw
+    return ShownAnimation(fig, draw, frames=len(times), interval=1000 / fps, blit=False), draw
 
 
 def _set(artist, P: np.ndarray) -> None:

@@ -1,5 +1,6 @@
 """`eg.plot`: a simulation's coordinates, speeds, actuator efforts and energy balance over time in one
-matplotlib figure (no pyplot: it works headless, and a notebook shows the figure it returns)."""
+matplotlib figure (no pyplot: it works headless, and a notebook shows the figure it returns, as a PNG,
+without `%matplotlib inline`)."""
 
 from __future__ import annotations
 
@@ -29,7 +30,8 @@ def plot(simulation: Simulation, path=None, size: tuple[float, float] = (8.0, 2.
     E − E(t0) − W, zero but for the integration error. Each row `size` (width, height) inches; saved to
     `path` when given (any format matplotlib writes: .png, .pdf, .svg)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg  # matplotlib only when drawing
-    from matplotlib.figure import Figure
+
+    from .figures import ShownFigure
 
     if not isinstance(simulation, Simulation):
         raise ModelError(f"plot: expected a Simulation (eg.simulate), got {type(simulation).__name__}")
@@ -37,7 +39,7 @@ def plot(simulation: Simulation, path=None, size: tuple[float, float] = (8.0, 2.
     rows = [("q", s.q, q_names), ("u", s.u, u_names)] + (
         [("τ_a", s.tau, tau_names)] if s.tau is not None else []
     )
-    fig = Figure(figsize=(size[0], size[1] * (len(rows) + 1)), layout="constrained")
+    fig = ShownFigure(figsize=(size[0], size[1] * (len(rows) + 1)), layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(len(rows) + 1, 1, sharex=True)
     for ax, (name, values, names) in zip(axes, rows):
