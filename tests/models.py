@@ -171,3 +171,17 @@ def joint_chain(joint) -> eg.System:
     s.add_body("c", parent=b, joint=eg.Revolute("r2", axis=(1, 0, 0)), mass=0.7, com=(0.2, 0, 0.1),
                inertia=sp.diag(0.1, 0.2, 0.15), placement=eg.Placement(translation=(0.3, -0.1, 0.2)))
     return s
+
+
+def two_link_closed_form(q, u, m1, m2, l1, lc1, lc2, I1, I2, g):
+    """M, C q̇ and G of the two-link arm of the bond-graph paper (angles from the horizontal, links along
+    their x axes, I_i about the com and the joint axis z), as the paper writes them."""
+    (q1, q2), (qd1, qd2) = q, u
+    M11 = I1 + I2 + m1 * lc1**2 + m2 * (l1**2 + lc2**2 + 2 * l1 * lc2 * sp.cos(q2))
+    M12 = I2 + m2 * (lc2**2 + l1 * lc2 * sp.cos(q2))
+    M = sp.Matrix([[M11, M12], [M12, I2 + m2 * lc2**2]])
+    h = -m2 * l1 * lc2 * sp.sin(q2)
+    Cqd = sp.Matrix([h * qd2 * (2 * qd1 + qd2), -h * qd1**2])
+    G = sp.Matrix([(m1 * lc1 + m2 * l1) * g * sp.cos(q1) + m2 * lc2 * g * sp.cos(q1 + q2),
+                   m2 * lc2 * g * sp.cos(q1 + q2)])
+    return M, Cqd, G

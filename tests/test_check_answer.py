@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from sympy.physics.mechanics import dynamicsymbols
 
 import eomgen as eg
-from models import cart_pendulum
+from models import cart_pendulum, two_link_closed_form
 
 from eomgen import answer_input
 
@@ -35,14 +35,7 @@ def two_link_arm():
                         inertia=sp.diag(*I[0]))
     system.add_body("link2", parent=a, joint=eg.Revolute("q_2", axis=(0, 0, 1)), mass=m2, com=(lc2, 0, 0),
                     inertia=sp.diag(*I[1]), placement=eg.Placement(translation=(l1, 0, 0)))
-    (q1, q2), (qd1, qd2), I1, I2 = system.q, system.u, I[0][2], I[1][2]
-    M11 = I1 + I2 + m1 * lc1**2 + m2 * (l1**2 + lc2**2 + 2 * l1 * lc2 * sp.cos(q2))
-    M12 = I2 + m2 * (lc2**2 + l1 * lc2 * sp.cos(q2))
-    M = sp.Matrix([[M11, M12], [M12, I2 + m2 * lc2**2]])
-    h = -m2 * l1 * lc2 * sp.sin(q2)
-    b = sp.Matrix([h * qd2 * (2 * qd1 + qd2), -h * qd1**2])
-    G = sp.Matrix([(m1 * lc1 + m2 * l1) * g * sp.cos(q1) + m2 * lc2 * g * sp.cos(q1 + q2),
-                   m2 * lc2 * g * sp.cos(q1 + q2)])
+    M, b, G = two_link_closed_form(system.q, system.u, m1, m2, l1, lc1, lc2, I[0][2], I[1][2], g)
     return system, M, b, G
 
 

@@ -11,22 +11,15 @@ import eomgen as eg
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "examples"))
 from two_link_dc_motors import NUMBERS, J_m, N, g, l1, lc1, lc2, m1, m2, I1, I2, simulate, two_link_arm  # noqa: E402
+from models import two_link_closed_form  # noqa: E402
 
 
 @pytest.mark.parametrize("method", ["lagrange", "projected_newton_euler", "recursive", "free_cut"])
 def test_two_link_arm_closed_forms(method):
     """M, C q̇ and G of the paper (angles from the horizontal)."""
     system = two_link_arm()
-    q1, q2 = system.q
-    qd1, qd2 = system.u
     eom = eg.derive(system, method=method)
-    M11 = I1 + I2 + m1 * lc1**2 + m2 * (l1**2 + lc2**2 + 2 * l1 * lc2 * sp.cos(q2))
-    M12 = I2 + m2 * (lc2**2 + l1 * lc2 * sp.cos(q2))
-    M = sp.Matrix([[M11, M12], [M12, I2 + m2 * lc2**2]])
-    h = -m2 * l1 * lc2 * sp.sin(q2)
-    Cqd = sp.Matrix([h * qd2 * (2 * qd1 + qd2), -h * qd1**2])
-    G = sp.Matrix([(m1 * lc1 + m2 * l1) * g * sp.cos(q1) + m2 * lc2 * g * sp.cos(q1 + q2),
-                   m2 * lc2 * g * sp.cos(q1 + q2)])
+    M, Cqd, G = two_link_closed_form(system.q, system.u, m1, m2, l1, lc1, lc2, I1, I2, g)
     assert sp.simplify(eom.M - M) == sp.zeros(2, 2)
     assert sp.simplify(eom.b - Cqd) == sp.zeros(2, 1)
     assert sp.simplify(eom.g - G) == sp.zeros(2, 1)
