@@ -117,7 +117,7 @@ def animate(
     frames = int(round(abs(t[-1] - t[0]) * fps)) + 1 if frames is None else frames
     if not isinstance(frames, (int, np.integer)) or frames < 1:
         raise ModelError(f"animate: frames must be a positive integer, got {frames!r}")
-    params = simulation.params if f is simulation.functions else _known(f, simulation)
+    params = simulation.params if f is simulation.functions else simulation_parameters(f, simulation)
     points, lines, dots, crosses = stick_figure(f, simulation.q, params)
     times = np.linspace(t[0], t[-1], frames)
     order = np.argsort(t, kind="stable")
@@ -135,7 +135,7 @@ def animate(
     return anim
 
 
-def _known(f: NumericEoM, simulation: Simulation) -> dict:
+def simulation_parameters(f: NumericEoM, simulation: Simulation) -> dict:
     """The simulation's parameter values (given, or bound) that the functions `f` have (Kane's may have
     more)."""
     given = simulation.functions.parameters

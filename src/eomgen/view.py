@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from .animation import _known, placements
+from .animation import placements, simulation_parameters
 from .codegen.kane import NumericKane
 from .errors import ModelError
 from .model import System
@@ -86,7 +86,8 @@ def view(source, q=None, *, simulation: Simulation | None = None, params: dict |
     if simulation is not None:
         Q, times = _played(system, simulation, q)
         f = placements(simulation.functions)
-        values = {**{str(k): v for k, v in _known(f, simulation).items()}, **_names(params)}
+        given = simulation_parameters(f, simulation)
+        values = {**{str(k): v for k, v in given.items()}, **_names(params)}
     else:
         Q, times, f, values = _pose(system, q), None, placements(system), _names(params)
     marked = _frames(system, frames)
