@@ -85,7 +85,7 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
 
     def nle(self, q, u, params=None, out=None) -> np.ndarray:
         if "nle" not in self.functions:
-            return written(self.b(q, u, params) + self.g(q, params), out)
+            return written(self.b(q, u, params) + self.g(q, params), out, q=q, u=u)
         return self.functions["nle"].vector(q, u, None, self._pvec(params, "nle"), out)
 
 

@@ -211,6 +211,13 @@ static PyArrayObject *output(PyObject *out, int nd, const npy_intp *shape)
     return NULL;
 }
 
+/* Whether two C-contiguous arrays share memory (their byte ranges meet) */
+static int overlap(PyArrayObject *x, PyArrayObject *y)
+{
+    const char *a = PyArray_DATA(x), *b = PyArray_DATA(y);
+    return a < b + PyArray_NBYTES(y) && b < a + PyArray_NBYTES(x);
+}
+
 static eomgen_vfn lanes[NF];  /* the vector functions, once their module is attached */
 static PyObject *hook;  /* called on the first batch: builds and attaches them */
 
@@ -266,6 +273,12 @@ static PyObject *evaluate(eomgen_fn f, int i, const int *idx, int nt, npy_intp r
     npy_intp dims[3] = {n, rows, cols}, *shape = nd == 2 ? dims : dims + 1;
     if (nargs == 5 && args[4] != Py_None) {
         result = output(args[4], nd + 1 - vector, shape);
+        for (int k = 0; k < 3 && result != NULL; ++k)  /* a batch would write over states not read yet */
+            if (a[k] != NULL && overlap(result, a[k])) {
+                PyErr_Format(PyExc_ValueError, "out: shares memory with the input %s; give an output "
+                             "array apart from the inputs", names[k]);
+                Py_CLEAR(result);
+            }
         if (result != NULL && !v)
             memset(PyArray_DATA(result), 0, PyArray_NBYTES(result));
     } else
