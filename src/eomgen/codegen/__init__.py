@@ -4,6 +4,7 @@ from __future__ import annotations
 import re
 import warnings
 from collections.abc import Callable, Mapping
+from contextlib import nullcontext
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,6 +17,7 @@ from ..state import random_states
 from .contacts import contact_dynamics, support_projector
 from .derivative_functions import DerivativeFunctions
 from .kinematic_functions import KinematicFunctions
+from .lines import check_ends, line_loads
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
 from .rhs import StateFunctions
@@ -115,6 +117,7 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
     def __init__(self, eom: EquationsOfMotion) -> None:
         self.eom = eom
         self.nq, self.nv = len(eom.q), len(eom.u)
+        self._lines = line_loads(eom.system)  # checked where the output is not finite (`lines`)
         self.parameters = Parameters(eom.system.parameters, state=[m.current for m in eom.system.motors])
         self.params = self.parameters.symbols  # p[k] of the generated code, sorted by name
         self.S = np.array(eom.S.tolist(), dtype=float).reshape(-1, self.nv)
@@ -171,8 +174,9 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
         if key not in self.functions:
             self._on_demand(key)
         f = self.functions[key]
-        result = _call(f.function, f.shape, self.nq, self.nv, q, u, ud, self._p(params, key))
-        return written(result, out, q=q, u=u, ud=ud)
+        with np.errstate(divide="ignore", invalid="ignore") if self._lines else nullcontext():
+            result = _call(f.function, f.shape, self.nq, self.nv, q, u, ud, self._p(params, key))
+        return written(check_ends(self, result, q, params), out, q=q, u=u, ud=ud)
 
     def reference(self, key: str, q, u=None, ud=None, params=None, digits: int = 50) -> np.ndarray:
         """The same generated expressions evaluated in mpmath with `digits` significant digits (one

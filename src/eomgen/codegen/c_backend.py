@@ -18,6 +18,7 @@ from . import QUANTITIES, Generated, NumericEoM, equations, expression, quantiti
 from .c_derivatives import CompiledDerivatives, plain_function, plain_parts
 from .extension import build, compile_module, compiled, compiler, python_headers
 from .kinematic_functions import placement
+from .lines import check_ends
 from .module import outputs
 from .numpy_backend import C, C_TRIG, VECTOR_TRIG
 from .parameters import Parameters
@@ -71,7 +72,7 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
         return self.functions[key]
 
     def call(self, key, q, u=None, ud=None, params=None, out=None) -> np.ndarray:
-        return self._get(key).function(q, u, ud, self._pvec(params, key), out)
+        return check_ends(self, self._get(key).function(q, u, ud, self._pvec(params, key), out), q, params)
 
     # the common entry points call the compiled function directly (vector outputs as vectors)
     def M(self, q, params=None, out=None) -> np.ndarray:
