@@ -46,6 +46,6 @@ def check_ends(f, result: np.ndarray, q, params) -> np.ndarray:
         load, state = f._lines[i], np.atleast_2d(np.asarray(q, dtype=float))[k]
         kind = type(load).__name__.lower()
         raise ModelError(f"{kind} '{load.name}': its ends meet at q = {state.tolist()}"
-                         f"{f' (state {k} of the batch)' if np.ndim(q) == 2 else ''}, where the line it acts "
-                         "along is undefined (0/0; see eomgen.codegen.lines)")
+                         f"{f' (state {k} of the batch)' if np.ndim(q) == 2 else ''} (|r_a − r_b| = 0 in float64), "
+                         "where the line it acts along is undefined (0/0; see eomgen.codegen.lines)")
     return result
