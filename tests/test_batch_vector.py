@@ -301,7 +301,8 @@ def test_out_sharing_memory_with_an_input_is_refused(ur5, n):
     M, nle, _ = pinocchio(system, q, u)
     for f in (fc, fn):
         buffer = np.zeros(n * 36 + n * 12)
-        out, qs, us = buffer[:n * 36].reshape(n, 6, 6), buffer[:n * 6].reshape(n, 6), buffer[-n * 6:].reshape(n, 6)
+        out, qs = buffer[:n * 36].reshape(n, 6, 6), buffer[:n * 6].reshape(n, 6)
+        us = buffer[-n * 6:].reshape(n, 6)
         qs[...] = q
         with pytest.raises(ValueError, match="out: shares memory with the input q"):
             f.M(qs, out=out)

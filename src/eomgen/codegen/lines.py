@@ -44,8 +44,8 @@ def check_ends(f, result: np.ndarray, q, params) -> np.ndarray:
     if met.size:
         k, i = met[0]
         load, state = f._lines[i], np.atleast_2d(np.asarray(q, dtype=float))[k]
-        kind = type(load).__name__.lower()
-        raise ModelError(f"{kind} '{load.name}': its ends meet at q = {state.tolist()}"
-                         f"{f' (state {k} of the batch)' if np.ndim(q) == 2 else ''} (|r_a − r_b| = 0 in float64), "
-                         "where the line it acts along is undefined (0/0; see eomgen.codegen.lines)")
+        kind, batch = type(load).__name__.lower(), f" (state {k} of the batch)" if np.ndim(q) == 2 else ""
+        raise ModelError(f"{kind} '{load.name}': its ends meet at q = {state.tolist()}{batch} "
+                         "(|r_a − r_b| = 0 in float64), where the line it acts along is undefined (0/0; see "
+                         "eomgen.codegen.lines)")
     return result
