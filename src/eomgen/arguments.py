@@ -24,7 +24,8 @@ def finite_array(x, shape: tuple[int, ...], what: str) -> np.ndarray:
     if a.shape != shape:
         raise ModelError(f"{what}: expected {_numbers(shape)}, got shape {a.shape}")
     if not np.isfinite(a).all():
-        raise ModelError(f"{what}: contains NaN or infinite values: {a.tolist()}")
+        bad = a.tolist() if a.size <= 12 else f"{(~np.isfinite(a)).sum()} of its {a.size} entries"
+        raise ModelError(f"{what}: contains NaN or infinite values: {bad}")
     return a
 
 
