@@ -289,3 +289,27 @@ def test_sin_and_cos_of_a_parameter_in_vector_registers(tmp_path, monkeypatch):
     data = model.createData()
     for k in range(len(q)):
         close(batch[k], mass_matrix(model, data, q[k]), 1e-12, f"M {k}")
+
+
+@pytest.mark.parametrize("n", [1, 8, 17])
+def test_out_sharing_memory_with_an_input_is_refused(ur5, n):
+    """A work buffer whose views are q and out (the C batches wrote M over states not read yet: errors ~3
+    for N ≥ 8) is refused on both backends, naming out and the input; views of one buffer that do not
+    overlap give Pinocchio's M and nle."""
+    system, fc, fn = ur5
+    q, u, _ = eg.random_states(system, n, np.random.default_rng(34))
+    M, nle, _ = pinocchio(system, q, u)
+    for f in (fc, fn):
+        buffer = np.zeros(n * 36 + n * 12)
+        out, qs = buffer[:n * 36].reshape(n, 6, 6), buffer[:n * 6].reshape(n, 6)
+        us = buffer[-n * 6:].reshape(n, 6)
+        qs[...] = q
+        with pytest.raises(ValueError, match="out: shares memory with the input q"):
+            f.M(qs, out=out)
+        us[...] = u
+        with pytest.raises(ValueError, match="out: shares memory with the input u"):
+            f.nle(q, us, out=us)
+        apart = buffer[n * 36:n * 42].reshape(n, 6)
+        apart[...] = q
+        np.testing.assert_allclose(f.M(apart, out=out), M, atol=1e-12)
+        np.testing.assert_allclose(f.nle(apart, us, out=buffer[:n * 6].reshape(n, 6)), nle, atol=1e-10)

@@ -49,7 +49,7 @@ def _entry(cache: Path) -> tuple[Path, Path]:
 
 
 @pytest.mark.parametrize("damage", ["truncated", "garbage, checksum matching", "no checksum",
-                                    "wrong checksum"])
+                                    "wrong checksum", "module is a folder", "checksum is a folder"])
 def test_a_damaged_entry_is_rebuilt_in_a_fresh_process(damage, tmp_path):
     """Built in one process (a module loaded here would be mapped: truncating it kills this process),
     damaged, then used in another."""
@@ -67,6 +67,10 @@ def test_a_damaged_entry_is_rebuilt_in_a_fresh_process(damage, tmp_path):
         checksum.unlink()
     if damage == "wrong checksum":
         checksum.write_text("0" * 64)
+    if damage.endswith("is a folder"):  # no rename can replace a folder: removed, then rebuilt
+        folder = module if damage.startswith("module") else checksum
+        folder.unlink()
+        (folder / "inside").mkdir(parents=True)
     assert _fresh_process(cache) < 1e-12  # equal to the NumPy backend
     assert checksum.read_text().strip() == hashlib.sha256(module.read_bytes()).hexdigest()
     assert module.stat().st_ino != before  # a new file moved in

@@ -8,6 +8,7 @@ from collections.abc import Iterable
 import numpy as np
 import sympy as sp
 
+from .arguments import count, finite_array, positive
 from .codegen import NumericEoM, codegen
 from .eom import EquationsOfMotion
 from .errors import ModelError
@@ -90,14 +91,13 @@ def assemble(system_or_f, q_guess, fixed=(), params=None, tol: float | None = No
     system = f.eom.system
     if not f.closure_rows:
         raise ModelError("assemble: the system has no loops or rolling disks (nothing to close)")
-    q = np.array(q_guess, dtype=float)
-    if q.shape != (f.nq,):
-        raise ModelError(f"assemble: q_guess must have shape ({f.nq},), got {q.shape}")
+    q = finite_array(q_guess, (f.nq,), "assemble: q_guess")
     q = unit_quaternions(system, q)  # R(q) is a rotation only for unit quaternions
     held = speed_indices(system, fixed, "assemble: fixed")
     free = [i for i in range(f.nv) if i not in held]
+    max_iter = count(max_iter, "assemble: max_iter", least=0)
     s = size(f, q, params)
-    tol = TOL * s if tol is None else tol
+    tol = TOL * s if tol is None else positive(tol, "assemble: tol")
     r = f.closure_residual(q, params)
     for _ in range(max_iter):
         if np.linalg.norm(r) <= tol:
@@ -148,5 +148,7 @@ def project(system_or_f, q, u, params=None, tol: float | None = None) -> tuple[n
     u ← N_c u = u − M⁻¹ J_cᵀ (J_c M⁻¹ J_cᵀ)⁺ J_c u, the speeds with J_c u = 0 (every row: contacts, loops,
     no-slip) nearest to u in kinetic energy, min (u' − u)ᵀ M (u' − u)."""
     f = numeric(system_or_f, "project")
+    q = finite_array(q, (f.nq,), "project: q")
+    u = finite_array(u, (f.nv,), f"project: u (the {f.nv} speeds {[str(x) for x in f.eom.u]})")
     q = assemble(f, q, params=params, tol=tol) if f.closure_rows else unit_quaternions(f.eom.system, q)
-    return q, f.support_projector(q, params) @ np.asarray(u, dtype=float)
+    return q, f.support_projector(q, params) @ u

@@ -11,11 +11,15 @@ so r(q) and J_c u drift; `stabilization`:
 - None: the drift left as it grows."""
 from __future__ import annotations
 
+import re
+import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import DOP853, RK23, RK45, solve_ivp
 
+from .arguments import finite_array
 from .assembly import numeric, project
 from .codegen import NumericEoM, codegen
 from .codegen.kane import NumericKane
@@ -97,24 +101,58 @@ def simulate(system_or_functions, x0, t_span, controller=None, tau=None, params=
         raise ModelError(f"simulate: controller must be a function (t, q, u) → τ_a, got "
                          f"{type(controller).__name__}")
     source = tau if controller is None else controller
+    t_span = tuple(finite_array(t_span, (2,), "simulate: t_span"))
     t_eval = _times(t_span, t_eval)
-    gains = {"baumgarte": baumgarte} if constrained and stabilization == "baumgarte" else {}
+    gains = {}
+    if constrained and stabilization == "baumgarte":
+        gains = {"baumgarte": tuple(finite_array(baumgarte, (2,), "simulate: baumgarte"))}
+    options = dict(rtol=rtol, atol=atol, max_step=max_step)
+    n_efforts = len(f.S)
 
     def rates(t, y):
         x = y[:-1]
-        tau_a = efforts(source, t, x[:f.nq], x[f.nq:f.nq + f.nv])
+        tau_a = _efforts(source, t, x[:f.nq], x[f.nq:f.nq + f.nv], n_efforts)
         return np.append(f.rhs(t, x, tau_a, params, **gains), f.power(t, x, tau_a, params))
 
     y0 = np.append(_initial(f, x0), 0.0)
-    options = dict(rtol=rtol, atol=atol, max_step=max_step)
-    if projecting:
-        t, y = _projected(f, rates, y0, t_span, PROJECTING[method], t_eval, params, options, tol)
-    else:
-        sol = solve_ivp(rates, t_span, y0, method=method, t_eval=t_eval, **options)
-        if sol.status < 0:
-            raise ModelError(f"simulate: the integrator failed at t = {sol.t[-1]}: {sol.message}")
-        t, y = sol.t, sol.y.T
-    return _report(f, t, y, params, source)
+    with _once():
+        if projecting:
+            t, y = _projected(f, rates, y0, t_span, PROJECTING[method], t_eval, params, options, tol)
+        else:
+            sol = solve_ivp(rates, t_span, y0, method=method, t_eval=t_eval, **options)
+            if sol.status < 0:
+                raise ModelError(f"simulate: the integrator failed at t = {sol.t[-1]}: {sol.message}")
+            t, y = sol.t, sol.y.T
+        return _report(f, t, y, params, source)
+
+
+def _efforts(source, t, q, u, n: int) -> np.ndarray | None:
+    """τ_a at (t, q, u): `tau`'s values or the controller's, which gets copies of q and u (the integrator's
+    state is not its to change); n finite numbers (not None, not booleans), else a ModelError naming it."""
+    if source is None:
+        return None
+    what = "simulate: the controller's efforts τ_a" if callable(source) else "simulate: tau"
+    return finite_array(efforts(source, t, q.copy(), u.copy()), (n,), what)
+
+
+@contextmanager
+def _once():
+    """The warnings of one simulation, each kind (its text less the numbers) issued once at its end, with
+    how often it came: a redundant loop warns at every evaluation of the dynamics."""
+    kinds: dict = {}
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                yield
+            finally:
+                for w in caught:
+                    kind = re.sub(r"[-+]?\d[\d.e+-]*", "#", str(w.message))
+                    kinds.setdefault((w.category, kind), []).append(w.message)
+    finally:
+        for (category, _), seen in kinds.items():
+            times = f" ({len(seen)} times in this simulation)" if len(seen) > 1 else ""
+            warnings.warn(f"{seen[0]}{times}", category, stacklevel=4)
 
 
 def _initial(f, x0) -> np.ndarray:
@@ -177,8 +215,7 @@ def _report(f, t, y, params, source) -> Simulation:
     q, u = x[:, :f.nq], x[:, f.nq:n]
     tau = None
     if source is not None:
-        tau = np.array([np.broadcast_to(efforts(source, tk, qk, uk), (len(f.S),))
-                        for tk, qk, uk in zip(t, q, u)])
+        tau = np.array([_efforts(source, tk, qk, uk, len(f.S)) for tk, qk, uk in zip(t, q, u)])
     closure = velocity = None
     if isinstance(f, NumericKane):
         if f.kane.dependent_coordinates:

@@ -4,6 +4,7 @@ from __future__ import annotations
 import re
 import warnings
 from collections.abc import Callable, Mapping
+from contextlib import nullcontext
 from dataclasses import dataclass
 
 import numpy as np
@@ -17,6 +18,7 @@ from ..state import random_states
 from .contacts import contact_dynamics, refuse_flat, support_projector
 from .derivative_functions import DerivativeFunctions
 from .kinematic_functions import KinematicFunctions
+from .lines import check_ends, line_loads
 from .numpy_backend import PYTHON, FunctionWriter, Syntax, compile_function
 from .parameters import Parameters, actuated, bind
 from .rhs import StateFunctions
@@ -80,11 +82,17 @@ def writer(eom: EquationsOfMotion, syntax: Syntax = PYTHON) -> FunctionWriter:
                                                "p": Parameters(eom.system.parameters).symbols}, syntax)
 
 
-def written(result: np.ndarray, out: np.ndarray | None) -> np.ndarray:
+def written(result: np.ndarray, out: np.ndarray | None, **inputs) -> np.ndarray:
     """`result`, copied into `out` when given: a writeable C-contiguous float64 array of its shape (a
-    batch reuses its buffers; the C backend writes there directly), else a ModelError naming out."""
+    batch reuses its buffers; the C backend writes there directly) that shares no memory with the
+    `inputs` {name: q, u or ud} (the C backend would write over states it has not read yet), else a
+    ModelError naming out."""
     if out is None:
         return result
+    for name, x in inputs.items():
+        if isinstance(out, np.ndarray) and isinstance(x, np.ndarray) and np.shares_memory(out, x):
+            raise ModelError(f"out: shares memory with the input {name}; give an output array apart from "
+                             "the inputs")
     if not isinstance(out, np.ndarray):
         got = type(out).__name__
     elif out.dtype != np.float64 or out.shape != result.shape or not out.flags.c_contiguous \
@@ -116,6 +124,7 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
     def __init__(self, eom: EquationsOfMotion) -> None:
         self.eom = eom
         self.nq, self.nv = len(eom.q), len(eom.u)
+        self._lines = line_loads(eom.system)  # checked where the output is not finite (`lines`)
         self.parameters = Parameters(eom.system.parameters, state=[m.current for m in eom.system.motors])
         self.params = self.parameters.symbols  # p[k] of the generated code, sorted by name
         self.S = np.array(eom.S.tolist(), dtype=float).reshape(-1, self.nv)
@@ -172,7 +181,9 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
         if key not in self.functions:
             self._on_demand(key)
         f = self.functions[key]
-        return written(_call(f.function, f.shape, self.nq, self.nv, q, u, ud, self._p(params, key)), out)
+        with np.errstate(divide="ignore", invalid="ignore") if self._lines else nullcontext():
+            result = _call(f.function, f.shape, self.nq, self.nv, q, u, ud, self._p(params, key))
+        return written(check_ends(self, result, q, params), out, q=q, u=u, ud=ud)
 
     def reference(self, key: str, q, u=None, ud=None, params=None, digits: int = 50) -> np.ndarray:
         """The same generated expressions evaluated in mpmath with `digits` significant digits (one
@@ -200,17 +211,17 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
 
     def b(self, q, u, params=None, out=None) -> np.ndarray:
         """Coriolis and centrifugal terms b(q, u), shape (nv,) per state."""
-        return written(self.call("b", q, u, params=params)[..., 0], out)
+        return written(self.call("b", q, u, params=params)[..., 0], out, q=q, u=u)
 
     def g(self, q, params=None, out=None) -> np.ndarray:
         """Gravity terms g(q) (left-hand side), shape (nv,) per state."""
-        return written(self.call("g", q, params=params)[..., 0], out)
+        return written(self.call("g", q, params=params)[..., 0], out, q=q)
 
     def nle(self, q, u, params=None, out=None) -> np.ndarray:
         """b + g in one pass (method "recursive"), like Pinocchio's nonLinearEffects."""
         if "nle" not in self.functions:
-            return written(self.b(q, u, params) + self.g(q, params), out)
-        return written(self.call("nle", q, u, params=params)[..., 0], out)
+            return written(self.b(q, u, params) + self.g(q, params), out, q=q, u=u)
+        return written(self.call("nle", q, u, params=params)[..., 0], out, q=q, u=u)
 
     def tau(self, q, u, params=None) -> np.ndarray:
         """Generalized forces of all loads."""

@@ -19,6 +19,7 @@ from . import (QUANTITIES, Generated, NumericEoM, equations, expression, listed,
 from .c_derivatives import CompiledDerivatives, plain_function, plain_parts
 from .extension import build, compile_module, compiled, compiler, python_headers
 from .kinematic_functions import placement
+from .lines import check_ends
 from .module import outputs
 from .numpy_backend import C, C_TRIG, VECTOR_TRIG
 from .parameters import Parameters
@@ -72,7 +73,7 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
         return self.functions[key]
 
     def call(self, key, q, u=None, ud=None, params=None, out=None) -> np.ndarray:
-        return self._get(key).function(q, u, ud, self._pvec(params, key), out)
+        return check_ends(self, self._get(key).function(q, u, ud, self._pvec(params, key), out), q, params)
 
     # the common entry points call the compiled function directly (vector outputs as vectors)
     def M(self, q, params=None, out=None) -> np.ndarray:
@@ -86,7 +87,7 @@ class CompiledEoM(CompiledDerivatives, NumericEoM):
 
     def nle(self, q, u, params=None, out=None) -> np.ndarray:
         if "nle" not in self.functions:
-            return written(self.b(q, u, params) + self.g(q, params), out)
+            return written(self.b(q, u, params) + self.g(q, params), out, q=q, u=u)
         return self.functions["nle"].vector(q, u, None, self._pvec(params, "nle"), out)
 
 

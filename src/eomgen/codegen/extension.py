@@ -15,7 +15,8 @@ by someone else) and a group-writable one is warned about; a folder that cannot 
 is a ModelError naming EOMGEN_CACHE. Each module `<name><EXT_SUFFIX>` is moved in by an atomic rename,
 then its checksum `<file>.sha256` (sha256 of the module's bytes) beside it; a module with no checksum,
 another checksum or that does not load is rebuilt once (a truncated or corrupt file, an interrupted
-build), and a ModelError if the rebuilt one does not load either."""
+build; a folder in the place of either file is removed first), and a ModelError if the rebuilt one does
+not load either."""
 from __future__ import annotations
 
 import hashlib
@@ -211,6 +212,13 @@ static PyArrayObject *output(PyObject *out, int nd, const npy_intp *shape)
     return NULL;
 }
 
+/* Whether two C-contiguous arrays share memory (their byte ranges meet) */
+static int overlap(PyArrayObject *x, PyArrayObject *y)
+{
+    const char *a = PyArray_DATA(x), *b = PyArray_DATA(y);
+    return a < b + PyArray_NBYTES(y) && b < a + PyArray_NBYTES(x);
+}
+
 static eomgen_vfn lanes[NF];  /* the vector functions, once their module is attached */
 static PyObject *hook;  /* called on the first batch: builds and attaches them */
 
@@ -266,6 +274,12 @@ static PyObject *evaluate(eomgen_fn f, int i, const int *idx, int nt, npy_intp r
     npy_intp dims[3] = {n, rows, cols}, *shape = nd == 2 ? dims : dims + 1;
     if (nargs == 5 && args[4] != Py_None) {
         result = output(args[4], nd + 1 - vector, shape);
+        for (int k = 0; k < 3 && result != NULL; ++k)  /* a batch would write over states not read yet */
+            if (a[k] != NULL && overlap(result, a[k])) {
+                PyErr_Format(PyExc_ValueError, "out: shares memory with the input %s; give an output "
+                             "array apart from the inputs", names[k]);
+                Py_CLEAR(result);
+            }
         if (result != NULL && !v)
             memset(PyArray_DATA(result), 0, PyArray_NBYTES(result));
     } else
@@ -404,6 +418,18 @@ def compile_module(glue: str, units: list[Unit], target: Path) -> None:
         os.replace(digest, checksum_file(target))
 
 
+def clear(target: Path) -> None:
+    """Remove a folder standing where the module or its checksum goes (no rename can replace it): the
+    cache is eomgen's own; a ModelError naming the path if it cannot be removed."""
+    for path in (target, checksum_file(target)):
+        if path.is_dir() and not path.is_symlink():
+            try:
+                shutil.rmtree(path)
+            except OSError as error:
+                raise ModelError(f"the C extension cache holds a folder at {path}, where a compiled module "
+                                 f"or its checksum goes, and it cannot be removed: {error}") from None
+
+
 def load(name: str, target: Path):
     loader = importlib.machinery.ExtensionFileLoader(name, str(target))
     spec = importlib.util.spec_from_file_location(name, str(target), loader=loader)
@@ -440,6 +466,7 @@ def compiled(content, make: Callable[[str, Path], None]):
         return sys.modules[name]
     fresh = not intact(target)
     if fresh:
+        clear(target)
         make(name, target)
     while True:
         try:
@@ -447,5 +474,6 @@ def compiled(content, make: Callable[[str, Path], None]):
         except ImportError as error:
             if fresh:
                 raise ModelError(f"the compiled module {target} does not load: {error}") from None
+        clear(target)
         make(name, target)
         fresh = True

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
+from ..arguments import count, finite_array, positive
 from ..errors import ModelError
 from ..state import unit_quaternions
 from . import Generated, NumericEoM
@@ -136,16 +137,18 @@ class NumericKane(KaneRefusals):
         q_dep ← q_dep − (∂f/∂q_dep)⁻¹ f; ModelError if the largest residual stays above `tol`."""
         if not self._q_dep:
             raise ModelError("assemble: these Kane's equations have no holonomic constraints")
-        q = np.array(q_guess, dtype=float)
-        if q.shape[-1:] != (self.nq,):
+        q = np.asarray(q_guess, dtype=object)
+        if q.ndim == 0 or q.shape[-1:] != (self.nq,):
             raise ModelError(f"assemble: q_guess: expected {self.nq} coordinates, got shape {q.shape}")
-        q = unit_quaternions(self.kane.system, q)
-        for _ in range(iterations):
+        q = unit_quaternions(self.kane.system, finite_array(q_guess, q.shape, "assemble: q_guess"))
+        tol, iterations = positive(tol, "assemble: tol"), count(iterations, "assemble: iterations", least=0)
+        for step in range(iterations + 1):
             fF = self._eval("holonomic", q, params=params)
             residual = np.max(np.abs(fF[..., 0]))
             if residual <= tol:
                 return q
-            q[..., self._q_dep] -= np.linalg.solve(fF[..., 1:], fF[..., :1])[..., 0]
+            if step < iterations:
+                q[..., self._q_dep] -= np.linalg.solve(fF[..., 1:], fF[..., :1])[..., 0]
         raise ModelError(f"assemble: the holonomic constraints fail by {residual:.3g} (max |f|) after "
                          f"{iterations} Newton steps from q_guess; no consistent q near it")
 

@@ -13,6 +13,7 @@ from collections.abc import Mapping
 import numpy as np
 import sympy as sp
 
+from ..arguments import flag
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..methods.kane import KaneEquations
@@ -50,6 +51,7 @@ def linearize(
     params: the parameters' values {name: value}. symbolic: sympy matrices (the operating point and params
     may hold symbols; small systems only), `simplify` applies sympy's simplify to each entry."""
     model = _model(equations)
+    symbolic, simplify = flag(symbolic, "linearize: symbolic"), flag(simplify, "linearize: simplify")
     nonzero = equations.nonzero if isinstance(equations, KaneEquations) else None
     algebra, system = Algebra(symbolic, nonzero), model.system
     case = model.case(independent)

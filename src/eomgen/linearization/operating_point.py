@@ -134,7 +134,12 @@ def operating_point(
 
 
 def _values(x, n: int, what: str, algebra: Algebra) -> np.ndarray:
+    """n numbers (sympy values when symbolic); strings (which numpy and sympy would parse) and booleans
+    refused."""
     try:
+        if any(isinstance(v, (str, bytes, bool, np.bool_)) for v in np.ravel(np.asarray(x, dtype=object))):
+            raise TypeError
+
         a = algebra.array(x).reshape(-1) if np.ndim(x) else algebra.array([x]).reshape(-1)
     except (TypeError, ValueError, sp.SympifyError):
         raise ModelError(f"linearize: op_point: {what}: expected numbers, got {x!r}") from None
