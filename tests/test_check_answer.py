@@ -91,10 +91,10 @@ def test_dynamicsymbols_and_solution_check():
 
 # each usual mistake once: (system, key, entry, wrong value, words of the cause)
 def seeded():
-    cart, (m_c, m_p, l, g) = CART[0], sp.symbols("m_c m_p l g", positive=True)
+    cart, (m_p, l, g) = CART[0], sp.symbols("m_p l g", positive=True)
     phi, phid = cart.q[1], cart.u[1]
     arm, M, b, G = ARM
-    (q1, q2), (qd1, qd2) = arm.q, arm.u
+    (q1, q2), (_, qd2) = arm.q, arm.u
     m2, l1, lc2 = sp.symbols("m_2 l_1 l_c2", positive=True)
     I_2xx, I_2zz = sp.symbols("I_2xx I_2zz", positive=True)
     return [

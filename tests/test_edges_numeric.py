@@ -34,7 +34,8 @@ def bar():
     f = eg.codegen(eg.derive(four_bar(), method="recursive"))
     twice = four_bar()
     twice.add_loop("coupler_end", "rocker_end", name="again")
-    return f, eg.assemble(f, [0.3, 1.2, 1.5], fixed=["th1"]), eg.codegen(eg.derive(twice, method="recursive"))
+    assembled = eg.assemble(f, [0.3, 1.2, 1.5], fixed=["th1"])
+    return f, assembled, eg.codegen(eg.derive(twice, method="recursive"))
 
 
 @pytest.mark.parametrize("t_span", [(0, np.inf), (0, np.nan), (-np.inf, 1), ("0", 1)])
@@ -93,8 +94,9 @@ def test_project_checks_the_speeds(bar):
     f, q0, _ = bar
     with pytest.raises(eg.ModelError, match=r"project: u \(the 3 speeds .*\): contains NaN"):
         eg.project(f, q0, [np.nan, 0, 0])
-    with pytest.raises(eg.ModelError, match=r"project: u \(the 3 speeds .*\): expected 3 finite numbers, got "
-                                            r"shape \(2,\)"):
+    with pytest.raises(eg.ModelError,
+                       match=r"project: u \(the 3 speeds .*\): expected 3 finite numbers, got "
+                             r"shape \(2,\)"):
         eg.project(f, q0, [0, 0])
 
 

@@ -131,8 +131,8 @@ def test_runner_speeds_implicit_kinematics_with_assumption():
     for values in states(system, 3, 3):
         np.testing.assert_allclose(number(k.mass_matrix, values),
                                    number(sp.diag(m, I_z + m * a**2), values), atol=1e-12)
-        np.testing.assert_allclose(number(k.forcing, values),
-                                   number([m * a * K.u2**2, F * l - m * a * K.u1 * K.u2], values), atol=1e-12)
+        forcing = [m * a * K.u2**2, F * l - m * a * K.u1 * K.u2]
+        np.testing.assert_allclose(number(k.forcing, values), number(forcing, values), atol=1e-12)
 
 
 @pytest.mark.parametrize("value,match", [
@@ -168,7 +168,8 @@ def test_products_of_stated_factors_proven(k1, k2, k3, coefficient, flip):
 
 def test_symbolic_linearization_under_the_same_assumption():
     """linearize(k, symbolic point) solves on the same pivots: refused without the assumption (naming
-    the candidate and assume_nonzero), and with it A = ∂ẋ/∂x of the notes' ẋ = [u1, tan x3 u1, u2, M̃⁻¹ f̃]."""
+    the candidate and assume_nonzero), and with it A = ∂ẋ/∂x of the notes' ẋ = [u1, tan x3 u1, u2,
+    M̃⁻¹ f̃]."""
     system, args = notes_skate()
     x1, x2, x3 = system.q
     point = {"x_1": x1, "x_2": x2, "x_3": x3, "u1": K.u1, "u2": K.u2}

@@ -48,7 +48,7 @@ def test_free_cut_rows_are_the_lectures_scalar_equations(solved):
     times the acceleration on the left; the rod force F on the pendulum in world axes; τ_φ only where
     the joint is actuated, τ_x never (the cart's joint is passive)."""
     system, sol, phi_actuated = solved
-    (x, phi), (xd, phid), (xdd, phidd) = system.q, system.u, system.ud
+    (x, phi), (_, phid), (xdd, phidd) = system.q, system.u, system.ud
     cut = step(sol, "Cut free")
     F_x, F_y = symbol(sol, "F_pendulum_x"), symbol(sol, "F_pendulum_y")
     F_cy, T_cz = symbol(sol, "F_cart_y"), symbol(sol, "T_cart_z")
@@ -81,7 +81,7 @@ def test_assembled_equations_of_motion_are_the_lectures(solved):
     """The last step: M q̈ + b + g = τ row by row, M, b, g of the lecture, τ = J_Pᵀ F_act of the cart
     force + J_sᵀ F_s of the spring (+ the effort of an actuated joint); each load's τ shown."""
     system, sol, phi_actuated = solved
-    (x, phi), (xd, phid), (xdd, phidd) = system.q, system.u, system.ud
+    (x, phi), (_, phid), (xdd, phidd) = system.q, system.u, system.ud
     last = sol.steps[-1]
     assert last.title == "Equations of motion"
     M = sp.Matrix([[m_c + m_p, m_p * l * sp.cos(phi)], [m_p * l * sp.cos(phi), m_p * l**2]])

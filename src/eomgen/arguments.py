@@ -34,7 +34,9 @@ def _numbers(shape: tuple[int, ...]) -> str:
         return "a finite number"
     if shape == (1,):
         return "1 finite number"
-    return f"{shape[0]} finite numbers" if len(shape) == 1 else f"an array of shape {shape} of finite numbers"
+    if len(shape) == 1:
+        return f"{shape[0]} finite numbers"
+    return f"an array of shape {shape} of finite numbers"
 
 
 def positive(x, what: str) -> float:

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .answer_causes import likely_cause, plain_text
+from .answer_causes import likely_cause
 from .answer_input import Reader
 from .errors import ModelError
 from .methods import derive

@@ -39,5 +39,6 @@ class ShownAnimation(FuncAnimation):
         return super()._repr_html_() if rcParams["animation.html"] == "html5" else self.offline_jshtml()
 
     def offline_jshtml(self) -> str:
-        """`to_jshtml()` (the frames embedded as PNGs) without the CDN stylesheet, its icons as characters."""
+        """`to_jshtml()` (the frames embedded as PNGs) without the CDN stylesheet, its icons as
+        characters."""
         return ICON.sub(lambda m: ICONS.get(m.group(1), m.group(0)), CDN.sub("", self.to_jshtml()))

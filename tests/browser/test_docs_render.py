@@ -31,7 +31,8 @@ TYPESET = """() => {  // each typeset formula's LaTeX, and those MathJax drew as
     const math = Array.from(MathJax.startup.document.math), errors = [];
     for (const item of math) {
         item.root.walkTree(node => {
-            if (node.isKind("merror") || (node.isKind("mtext") && node.attributes.get("mathcolor") === "red"))
+            const red = node.isKind("mtext") && node.attributes.get("mathcolor") === "red";
+            if (node.isKind("merror") || red)
                 errors.push(item.math.slice(0, 300));
         });
     }
@@ -39,9 +40,10 @@ TYPESET = """() => {  // each typeset formula's LaTeX, and those MathJax drew as
             containers: document.querySelectorAll("mjx-container").length,
             merrors: document.querySelectorAll("mjx-merror").length};
 }"""
-TEXT = """() => {  // the page's text as read, less the code cells' and code blocks' source and the math
+TEXT = """() => {  // the text as read, less code (cells, blocks, inline: literal by intent) and the math
     const main = document.querySelector("article") || document.body, copy = main.cloneNode(true);
-    copy.querySelectorAll(".cell_input, div.highlight:not(.output *), mjx-container, script, style")
+    copy.querySelectorAll(".cell_input, div.highlight:not(.output *), code:not(.output *), mjx-container, "
+                          + "script, style")
         .forEach(e => e.remove());
     document.body.appendChild(copy);  // innerText needs a rendered element
     const text = copy.innerText;

@@ -60,7 +60,8 @@ def test_ur5_page_shows_its_meshes(tmp_path):
 def test_cart_pendulum_page_plays_back(tmp_path):
     system, (m_c, m_p, l, g) = cart_pendulum()
     params = {m_c: 1.0, m_p: 0.5, l: 0.8, g: 9.81}
-    sim = eg.simulate(system, ([0.0, 1.0], [0.0, 0.0]), (0.0, 0.5), params=params, t_eval=np.linspace(0.0, 0.5, 11))
+    sim = eg.simulate(system, ([0.0, 1.0], [0.0, 0.0]), (0.0, 0.5), params=params,
+                      t_eval=np.linspace(0.0, 0.5, 11))
     eg.view(sim).static_html(tmp_path / "cart_pendulum.html")
     nodes, errors, requests = opened(tmp_path / "cart_pendulum.html")
     assert errors == [] and requests == []

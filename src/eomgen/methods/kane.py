@@ -412,8 +412,8 @@ def assumptions(system: System, values, q: list, parameters: set) -> list[sp.Exp
         system.check_symbols(what, e)
         unknown = e.free_symbols - set(q) - parameters
         if unknown:
-            raise ModelError(f"{what}: {sorted(unknown, key=str)} are neither coordinates {q} nor parameters "
-                             "of the system or its constraints")
+            raise ModelError(f"{what}: {sorted(unknown, key=str)} are neither coordinates {q} nor "
+                             "parameters of the system or its constraints")
         if all(abs(complex(e.evalf(subs=state))) < 1e-12 for state in states):
             raise ModelError(f"{what}: it is zero at all {SAMPLES} random states (identically zero?), "
                              "so it cannot be assumed nonzero")

@@ -280,7 +280,9 @@ def _pieces(expr, digits: int, first: bool) -> list[str]:
 
 
 def _display(math: str, kind: str) -> str:
-    return rf"\[ {math} \]" if kind == "latex" else f"$$ {math} $$\n"
+    """Display math; in Markdown a block of its own (after a blank line: a `$$` that continues a
+    paragraph is text to MyST and to Jupyter's renderer)."""
+    return rf"\[ {math} \]" if kind == "latex" else f"\n$$ {math} $$\n"
 
 
 PROSE = re.compile(r"(\\.|\$[^$]+\$|`[^`]+`)", re.S)  # a \-escaped character, $math$, `code`
@@ -354,7 +356,8 @@ def _load(load, c: Cells) -> tuple[str, str]:
         what += [] if load.force is None else [f"force {c.math(latex(load.force))} along the line"]
         return "actuator", (f"{' and '.join(what)} on {_point(load.a, c)}, reaction on {_point(load.b, c)}")
     if isinstance(load, Spring):
-        stiffness = c.math(f"k = {latex(load.stiffness)}") + ", " + c.math(f"l_0 = {latex(load.rest_length)}")
+        stiffness = (c.math(f"k = {latex(load.stiffness)}") + ", "
+                     + c.math(f"l_0 = {latex(load.rest_length)}"))
         return "spring", f"{stiffness}, between {_point(load.a, c)} and {_point(load.b, c)}"
     if isinstance(load, Damper):
         damping = c.math(f"c = {latex(load.damping)}")

@@ -19,7 +19,6 @@ from ..kinematics import TIME
 from ..model import FreeFlyer
 from ..methods.free_cut import effort_symbols
 from ..model.loads import Point
-from ..printing import latex
 from ..textbook import Simplifier, chi, operations, shared
 
 LARGE = 400  # a closed form with more operations than this is shown through shared definitions
