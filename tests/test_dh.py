@@ -362,7 +362,7 @@ def placements():
     return st.one_of(st.none(), st.builds(placement, S.rotations(), S.vectors()))
 
 
-@settings(max_examples=60, deadline=None, derandomize=True, database=None, print_blob=True,
+@settings(max_examples=30, deadline=None, derandomize=True, database=None, print_blob=True,
           phases=[Phase.explicit, Phase.reuse, Phase.generate],  # shrinking re-derives hundreds of times
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(links=st.lists(dh_links(), min_size=1, max_size=4).filter(lambda ls: sum(l.mass for l in ls) > 0),

@@ -60,7 +60,10 @@ def test_spatial_cut_equations_have_six_per_body():
     assert len(cut.equations) == 18 and len(cut.unknowns) == 3 * 5 + 3
 
 
-@pytest.mark.parametrize("build", [double_pendulum, spatial_arm_3dof])
+SPATIAL = pytest.param(spatial_arm_3dof, marks=pytest.mark.slow)  # symbolic: 22 s
+
+
+@pytest.mark.parametrize("build", [double_pendulum, SPATIAL])
 def test_agrees_with_other_methods_symbolically(build):
     assert_methods_agree(build(), "free_cut")
     assert_methods_agree(build(), "free_cut", reference="lagrange")

@@ -9,7 +9,10 @@ import eomgen as eg
 from models import double_pendulum, matrices_trig_equal, numeric_arm, spatial_arm_3dof
 
 
-@pytest.mark.parametrize("build", [double_pendulum, spatial_arm_3dof])
+SPATIAL = pytest.param(spatial_arm_3dof, marks=pytest.mark.slow)  # symbolic: 23 s
+
+
+@pytest.mark.parametrize("build", [double_pendulum, SPATIAL])
 @pytest.mark.parametrize("method", ["projected_newton_euler", "lagrange"])
 def test_Mdot_minus_2C_is_skew(build, method):
     system = build()

@@ -44,6 +44,7 @@ def _execute(nb, tmp_path, monkeypatch):
     client.execute()  # raises CellExecutionError, naming the cell, on any error or failed assert
 
 
+@pytest.mark.slow  # the docs build executes every notebook and fails on an error (.ci/run builds them)
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_notebook_runs(path, tmp_path, monkeypatch):
     _execute(nbformat.read(path, as_version=4), tmp_path, monkeypatch)

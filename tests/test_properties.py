@@ -71,7 +71,7 @@ def check_pinocchio(tree, method: str) -> None:
             close(f.tau(q, u), sum(forces.values()), 1e-9, f"tau, state {k}")
 
 
-@settings(max_examples=100, **COMMON)
+@settings(max_examples=50, **COMMON)  # more: the slow _many variant
 @given(tree=S.trees(), method=st.sampled_from(METHODS))
 def test_equals_pinocchio(tree, method):
     check_pinocchio(tree, method)
@@ -100,7 +100,7 @@ def check_methods_agree(tree) -> None:
                 close(out[key], out0[key], 1e-10, f"{key}: {m} vs {METHODS[0]}, state {k}")
 
 
-@settings(max_examples=25, **COMMON)
+@settings(max_examples=12, **COMMON)
 @given(tree=S.trees(max_bodies=5))
 def test_methods_agree(tree):
     check_methods_agree(tree)
@@ -143,7 +143,7 @@ def check_numpy_and_module(tree, method: str, folder, tag: str) -> None:
     close(mod.g(qs), np.array([f.g(q) for q in qs]), 1e-12, "module batched g")
 
 
-@settings(max_examples=40, **COMMON)
+@settings(max_examples=20, **COMMON)
 @given(tree=S.trees(), method=st.sampled_from(METHODS))
 def test_numpy_and_written_module_agree(tree, method, tmp_path_factory):
     folder = tmp_path_factory.mktemp("module")
@@ -233,7 +233,7 @@ def check_compiled(tree, method: str, folder) -> None:
         assert f"eom_J_{k}(" in header
 
 
-@settings(max_examples=6, **COMMON)
+@settings(max_examples=3, **COMMON)
 @given(tree=S.trees(max_bodies=4), method=st.sampled_from(METHODS))
 def test_compiled_outputs_agree(tree, method, tmp_path_factory):
     check_compiled(tree, method, tmp_path_factory.mktemp("c"))
