@@ -84,6 +84,15 @@ def test_cart_pole_equals_hand_and_sympy_linearizer():
     np.testing.assert_allclose(numeric.x0, [0.3, 0, 0, 0])
 
 
+def test_no_inputs_symbolic_gives_an_empty_B():
+    """inputs=[]: B has no columns (n × 0) and r0 no entries, symbolic as numeric; A is the hand one's."""
+    eom = cart_pole()
+    L = eg.linearize(eom, (np.zeros(2), np.zeros(2)), inputs=[], symbolic=True)
+    A, _ = cart_pole_by_hand()
+    assert equal(L.A, A) and L.B.shape == (4, 0) and L.inputs == ()
+    assert eg.linearize(eom, (np.zeros(2), np.zeros(2)), inputs=[], params=CART_POLE).B.shape == (4, 0)
+
+
 def test_lqr_from_the_linearization_holds_the_pole_up():
     """K from the continuous Riccati equation (Q = 1, R = 1) of the numeric A, B; the nonlinear cart-pole
     (the generated forward dynamics, solve_ivp) from a 0.2 rad tilt is upright within 1e-3 rad after 8 s and

@@ -150,7 +150,7 @@ def _result(
     r0 = [*op.efforts[chosen.efforts], *(values.get(p, p) for p in chosen.parameters)]
     out = [J[:, :nx], J[:, nx:], [*x0, *op.speeds, *op.currents], r0, xdot.value[:, 0]]
     if symbolic:
-        out = [sp.Matrix(np.reshape(np.array(x, dtype=object), (len(x), -1)).tolist()) for x in out]
+        out = [_matrix(np.array(x, dtype=object)) for x in out]
         out = [x.applyfunc(sp.simplify) if simplify else x for x in out]
     else:
         out = [np.asarray(x, dtype=float) for x in out]
@@ -196,3 +196,9 @@ def _check(x, at: dict, what: str) -> None:
     numbers = np.array([complex(sp.sympify(v).xreplace(at).evalf()) if at else v for v in x], dtype=complex)
     if np.max(np.abs(numbers), initial=0) > TOL:
         raise ModelError(f"linearize: op_point: {what} {np.real_if_close(numbers)}")
+
+
+def _matrix(x: np.ndarray) -> sp.Matrix:
+    """A sympy matrix of a 2-D block (n × m, m = 0 too: no inputs) or a column of a 1-D one."""
+    rows, columns = x.shape if x.ndim == 2 else (len(x), 1)
+    return sp.Matrix(rows, columns, list(x.flat))
