@@ -99,6 +99,9 @@ REFUSED = {
                                 "site 'j' has the name of a joint"),
     "joint with pos named like its body": (f'<joint name="r" axis="1 0 0" pos="0.1 0 0"/>{GEOM}', "",
                                            "joint 'r' has a pos and the name of a body"),
+    "welded site with three numbers in quat": (f'{INERTIAL}<site name="s" quat="1 0 0"/><body name="b"><joint '
+                                              f'name="j1" axis="0 1 0"/>{INERTIAL}</body>', "",
+                                              r"quat='1 0 0' must be 4 finite numbers"),
 }
 
 

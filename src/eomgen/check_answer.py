@@ -15,6 +15,7 @@ import sympy as sp
 from .answer_causes import likely_cause
 from .answer_input import Reader
 from .errors import ModelError
+from .escaping import markdown_text
 from .methods import derive
 from .state import random_states
 from .textbook import is_zero
@@ -64,8 +65,8 @@ class Check:
         return "\n".join([f"{equal} of {len(self.entries)} entries equal ({HOW})", *map(str, self.entries)])
 
     def markdown(self) -> str:
-        rows = [f"| {_md(e.name)} | {_md(e.verdict())} |" for e in self.entries]
-        return "\n".join([f"**{'correct' if self.ok else 'not correct'}** ({_md(HOW)})", "",
+        rows = [f"| {markdown_text(e.name)} | {markdown_text(e.verdict())} |" for e in self.entries]
+        return "\n".join([f"**{'correct' if self.ok else 'not correct'}** ({markdown_text(HOW)})", "",
                           "| entry | verdict |", "|---|---|", *rows])
 
     def _repr_markdown_(self) -> str:
@@ -121,7 +122,7 @@ class _States:
         s, t = self.values(student), self.values(truth)
         if self.same(s, t):
             small = sp.count_ops(student) + sp.count_ops(truth) <= EXACT_OPS
-            return Entry(name, True, exactly=small and is_zero(sp.expand(student - truth)))
+            return Entry(name, True, exactly=small and is_zero(student - truth))
         gap = np.abs(s - t)
         k = int(np.argmax(np.where(np.isfinite(gap), gap, np.inf)))
         used = (student.free_symbols | truth.free_symbols)
@@ -130,7 +131,3 @@ class _States:
         return Entry(name, False, state=state, student=float(s[k].real), expected=float(t[k].real),
                      cause=cause)
 
-
-def _md(text: str) -> str:
-    """Plain text safe in a Markdown table: markup characters escaped."""
-    return "".join("\\" + c if c in "\\`*_{}[]<>#|^~$" else c for c in text)

@@ -26,6 +26,7 @@ random states; the closed forms solve symbolically only on pivots proven nonzero
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 import sympy as sp
@@ -71,7 +72,7 @@ class KaneEquations(ClosedForms):
     assume_nonzero: list = field(default_factory=list)  # stated: the closed forms hold where none is 0
     _closed: dict = field(default_factory=dict, repr=False)
 
-    @property
+    @cached_property
     def nonzero(self) -> Nonzero:
         """The stated expressions (`assume_nonzero`) that the closed forms' pivots may divide by."""
         return Nonzero(self.assume_nonzero)

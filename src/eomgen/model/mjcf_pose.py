@@ -20,12 +20,21 @@ def _unit(v, where: str) -> np.ndarray:
     return np.asarray(v, float) / n
 
 
+COUNTS = {"pos": 3, "quat": 4, "axisangle": 4, "euler": 3, "xyaxes": 6, "zaxis": 3}
+
+
 def _values(attribute: Callable, name: str, where: str) -> list[float] | None:
+    """Attribute `name` as its COUNTS[name] finite numbers (None if absent)."""
     text = attribute(name)
+    if text is None:
+        return None
     try:
-        return None if text is None else [float(x) for x in text.split()]
+        values = [float(x) for x in text.split()]
     except ValueError:
-        raise ModelError(f"{where}: {name}={text!r} is not numbers") from None
+        values = []
+    if len(values) != COUNTS[name] or not np.isfinite(values).all():
+        raise ModelError(f"{where}: {name}={text!r} must be {COUNTS[name]} finite numbers")
+    return values
 
 
 def pose(attribute: Callable[[str], str | None], compiler: dict[str, str], where: str
