@@ -34,7 +34,7 @@ def placements(source) -> NumericEoM:
     """Numeric functions with `placement`: those given, or generated from the system alone (kinematics
     only) for a System or Kane's equations."""
     if isinstance(source, (System, NumericKane)):
-        system = source if isinstance(source, System) else source.kane.system
+        system = source if isinstance(source, System) else source.system
         return codegen(derive(system, method="recursive", quantities=()))
     return functions(source, "animate")
 

@@ -19,9 +19,10 @@ LEGEND = 12  # most curves a legend names
 def labels(f) -> tuple[list[str], list[str], list[str]]:
     """The names of the coordinates, of the speeds in the state (Kane's: w_ind), of the actuated joints."""
     if isinstance(f, NumericKane):
-        system, speeds = f.kane.system, f.kane.independent
+        speeds = f.kane.independent
     else:
-        system, speeds = f.eom.system, f.eom.u
+        speeds = f.eom.u
+    system = f.system
     return [str(x) for x in system.q], [str(x) for x in speeds], system.actuated
 
 

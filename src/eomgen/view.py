@@ -19,7 +19,6 @@ import numpy as np
 import sympy as sp
 
 from .animation import placements, simulation_parameters
-from .codegen.kane import NumericKane
 from .errors import ModelError
 from .model import System
 from .simulate import Simulation
@@ -78,7 +77,7 @@ def view(source, q=None, *, simulation: Simulation | None = None, params: dict |
     if isinstance(source, Simulation):
         if simulation is not None:
             raise ModelError("view: give the simulation as the source or as simulation=, not both")
-        source, simulation = _system(source), source
+        source, simulation = source.functions.system, source
     if not isinstance(source, System):
         raise ModelError(f"view: expected a System or a Simulation (eg.simulate), "
                          f"got {type(source).__name__}")
@@ -118,11 +117,6 @@ def _meshcat():
     return meshcat
 
 
-def _system(simulation: Simulation) -> System:
-    f = simulation.functions
-    return f.kane.system if isinstance(f, NumericKane) else f.eom.system
-
-
 def _names(params) -> dict[str, float]:
     """params by symbol name."""
     if params is None:
@@ -138,7 +132,7 @@ def _played(system: System, simulation: Simulation, q) -> tuple[np.ndarray, np.n
         raise ModelError(f"view: simulation must be an eg.simulate result, got {type(simulation).__name__}")
     if q is not None:
         raise ModelError("view: give q or a simulation, not both")
-    other = _system(simulation)
+    other = simulation.functions.system
     if other is not system and ([b.name for b in other.bodies] != [b.name for b in system.bodies]
                                 or list(other.q) != list(system.q)):
         raise ModelError(f"view: simulation is of another system (bodies {[b.name for b in other.bodies]}, "

@@ -123,6 +123,7 @@ class NumericEoM(KinematicFunctions, StateFunctions, DerivativeFunctions):
 
     def __init__(self, eom: EquationsOfMotion) -> None:
         self.eom = eom
+        self.system = eom.system  # the model the functions were generated from
         self.nq, self.nv = len(eom.q), len(eom.u)
         self._lines = line_loads(eom.system)  # checked where the output is not finite (`lines`)
         self.parameters = Parameters(eom.system.parameters, state=[m.current for m in eom.system.motors])

@@ -40,6 +40,7 @@ class NumericKane(KaneRefusals):
 
     def __init__(self, kane) -> None:
         self.kane = kane
+        self.system = kane.system  # the model the functions were generated from
         self.n = len(kane.speeds)  # as many as the joint speeds u
         self.nq, self.nv = len(kane.system.q), len(kane.independent)
         self.parameters = Parameters(kane.parameters)
