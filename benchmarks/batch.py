@@ -48,10 +48,10 @@ def best(fn, repeat: int) -> float:
 def measure(name: str, states: int, megabytes: float, repeat: int) -> dict:
     """One side's times (run in a worker process, with its own eomgen on sys.path)."""
     import eomgen as eg
-    from eomgen.codegen import extension
+    from eomgen.printers.build import extension
 
     try:
-        from eomgen.codegen.compile import COMPILE
+        from eomgen.printers.build.compile import COMPILE
 
         flags = ["-O2 (-O1 for large units)", *COMPILE]
     except ImportError:  # an eomgen of before the translation units

@@ -65,7 +65,10 @@ def one(case: str, method: str, level: str | None) -> dict:
     import numpy as np
 
     import eomgen as eg
-    from eomgen.codegen import extension
+    try:
+        from eomgen.printers.build import extension
+    except ImportError:  # a revision before the printers (--before)
+        from eomgen.codegen import extension
 
     if level:
         extension.optimisation = lambda unit: level
@@ -232,7 +235,7 @@ def main() -> None:
         ),
         platform.processor(),
     )
-    from eomgen.codegen import compile as units
+    from eomgen.printers.build import compile as units
 
     results_io.write(
         args.out,

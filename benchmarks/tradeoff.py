@@ -17,7 +17,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 import eomgen as eg
-from eomgen.codegen.extension import compiler, python_headers
+from eomgen.printers.build.extension import compiler, python_headers
 from eomgen.tradeoff import HEADER, pareto_plot
 
 sys.path.insert(0, str(Path(__file__).parent))

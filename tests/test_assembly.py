@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import eomgen as eg
-from eomgen.assembly import speed_indices
+from eomgen.numeric.assembly import speed_indices
 from eomgen.verify import to_pinocchio
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "examples"))

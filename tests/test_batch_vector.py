@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import eomgen as eg
-from eomgen.codegen.vector import branches
+from eomgen.printers.vector import branches
 from eomgen.model.urdf import pinocchio_configuration
 from eomgen.verify import mass_matrix, to_pinocchio
 from models import cart_pendulum, close
@@ -140,10 +140,10 @@ def test_bad_out_is_refused(ur5):
 def test_lane_functions_and_long_functions_in_parts(tmp_path, monkeypatch):
     """The elementary functions, Min, Max, |x| and general powers lane by lane, and functions split in
     parts (a small SEGMENT): the batch = the NumPy backend and the per-call path."""
-    from eomgen.codegen import numpy_backend
+    from eomgen.printers import walker
 
     monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
-    monkeypatch.setattr(numpy_backend, "SEGMENT", 1)
+    monkeypatch.setattr(walker, "SEGMENT", 1)
     system = eg.System(gravity=(0, 0, -9.81))
     a = system.add_body("a", joint=eg.Revolute("x", axis=(0, 0, 1)), mass=1, com=(0.5, 0, 0))
     b = system.add_body(
@@ -197,8 +197,8 @@ def test_branches_keep_the_scalar_batch_loop(tmp_path, monkeypatch):
 
 def test_vector_functions_are_built_on_the_first_batch_for_this_machine(tmp_path, monkeypatch):
     """codegen and calls of one state build one module, the first batch the module of the vector
-    functions; on another CPU (vector.machine in the cache key) both are built again."""
-    from eomgen.codegen import vector
+    functions; on another CPU (machine() in the cache key) both are built again."""
+    from eomgen.printers.build import extension
 
     monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
     system = eg.System(gravity=(0, -9.81, 0))  # a model of this test only: no module of it loaded yet
@@ -218,8 +218,8 @@ def test_vector_functions_are_built_on_the_first_batch_for_this_machine(tmp_path
     assert modules() == 1
     M = f.M(np.ones((3, 2)))
     assert modules() == 2
-    assert vector.machine()
-    monkeypatch.setattr(vector, "machine", lambda: "another CPU")
+    assert extension.machine()
+    monkeypatch.setattr(extension, "machine", lambda: "another CPU")
     np.testing.assert_array_equal(eg.codegen(eom, backend="c").M(np.ones((3, 2))), M)
     assert modules() == 4
 
@@ -244,13 +244,13 @@ def test_inverse_dynamics_derivatives_in_batches(ur5, tmp_path, monkeypatch):
 
 def test_vector_functions_that_do_not_compile_leave_the_scalar_loop(tmp_path, monkeypatch):
     """A compiler that refuses the vector module: a warning, and batches one state at a time (= NumPy)."""
-    from eomgen.codegen import c_backend
+    from eomgen.printers import c_extension
 
     def refused(*args):
         raise eg.ModelError("the C compiler failed: vector types")
 
     monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
-    monkeypatch.setattr(c_backend, "lanes_module", refused)
+    monkeypatch.setattr(c_extension, "lanes_module", refused)
     system, _ = cart_pendulum()
     eom = eg.derive(system)
     fc, fn = eg.codegen(eom, backend="c"), eg.codegen(eom)

@@ -9,16 +9,17 @@ from hypothesis import strategies as st
 
 import eomgen as eg
 from eomgen import progress as bars
-from eomgen.codegen import compile as units
-from eomgen.codegen import extension, numpy_backend
-from eomgen.codegen.numpy_backend import C_TRIG
+from eomgen.printers import syntax, walker
+from eomgen.printers.build import compile as units
+from eomgen.printers.build import extension
+from eomgen.printers.syntax import C_TRIG
 from eomgen.verify import verify
 from models import double_pendulum
 
 
 def cut(monkeypatch, tmp_path, segment: int, unit: int) -> None:
     """Parts of about `segment` operations, units of about `unit` characters, a fresh cache."""
-    monkeypatch.setattr(numpy_backend, "SEGMENT", segment)
+    monkeypatch.setattr(walker, "SEGMENT", segment)
     monkeypatch.setattr(units, "UNIT", unit)
     monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
 
@@ -102,9 +103,9 @@ def test_progress_bar_over_the_units(tmp_path, monkeypatch, capsys):
 
 def test_definitions_lose_static_and_keep_their_text():
     part = constant(0, "1.0")[0].replace("void e0", "EOMGEN_NOINLINE void e0_0")
-    text = numpy_backend.NOINLINE + "\n\n" + part + "\n" + constant(0, "2.0")[0]
+    text = syntax.NOINLINE + "\n\n" + part + "\n" + constant(0, "2.0")[0]
     blocks, found = units.definitions(text)
-    assert blocks == [numpy_backend.NOINLINE]
+    assert blocks == [syntax.NOINLINE]
     assert [units.name(d) for d in found] == ["e0_0", "e0"] and not any(
         d.startswith("static") for d in found
     )

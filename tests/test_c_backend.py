@@ -53,7 +53,7 @@ def test_no_compiler_is_a_clear_error(monkeypatch):
 
 
 def test_no_python_headers_is_a_clear_error(monkeypatch, tmp_path):
-    from eomgen.codegen import extension
+    from eomgen.printers.build import extension
 
     monkeypatch.setattr(extension.sysconfig, "get_paths", lambda: {"include": str(tmp_path)})
     eom = eg.derive(eg.robots.load("double_pendulum"))

@@ -117,7 +117,7 @@ def test_a_read_only_cache_is_a_clear_error(tmp_path, monkeypatch):
     ro = tmp_path / "ro"
     ro.mkdir(mode=0o500)
     if os.geteuid() == 0:
-        from eomgen.codegen import extension
+        from eomgen.printers.build import extension
 
         access = os.access
         monkeypatch.setattr(extension.os, "access",

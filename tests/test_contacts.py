@@ -7,7 +7,7 @@ import pinocchio as pin
 import pytest
 
 import eomgen as eg
-from eomgen.codegen.contacts import contact_dynamics
+from eomgen.numeric.contacts import contact_dynamics
 from eomgen.verify import random_states
 
 SOLO_FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]

@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 import eomgen as eg
 import strategies as S
-from eomgen.codegen import writer
+from eomgen.functions import catalogue
+from eomgen.printers.walker import writer
 from eomgen.methods.recursive import Recursion
 from eomgen.model import pinocchio_configuration
 from eomgen.verify import mass_matrix, to_pinocchio
@@ -54,7 +55,7 @@ def hand(free: bool) -> eg.System:
 
 def ops(system) -> int:
     eom = eg.derive(system, method="recursive")
-    return writer(eom).source("M", eom.compact["M"], True)[2]
+    return writer(catalogue(eom)).source("M", eom.compact["M"], True)[2]
 
 
 def test_meetings_give_pinocchio_crba_with_fewer_operations(monkeypatch):

@@ -172,7 +172,8 @@ def test_unsupported_is_a_clear_error(load, name):
 
 def test_no_value_or_no_number_is_a_clear_error():
     """What the model's checks let through no longer: a symbol that is no input, infinity, a condition."""
-    from eomgen.codegen.numpy_backend import C, Printer
+    from eomgen.printers.syntax import C
+    from eomgen.printers.walker import Printer
 
     x = sp.Symbol("x")
     for expr, name in [(sp.Piecewise((1, sp.Symbol("w") > 0), (0, True)), "symbol w: it is no coordinate"),

@@ -2,7 +2,7 @@
 
 ``eomgen-quantities``
     A table of the quantities the numeric functions of ``eg.codegen`` evaluate, one row per entry of
-    ``eomgen.codegen.QUANTITIES``: the call, the shape of its result for one state (measured on a small
+    ``eomgen.functions.QUANTITIES``: the call, the shape of its result for one state (measured on a small
     model) and the description from the source.
 
 ``toctree-if-any``
@@ -45,9 +45,11 @@ class Quantities(SphinxDirective):
         import sympy as sp
 
         import eomgen as eg
-        from eomgen.codegen import QUANTITIES, NumericEoM
+        from eomgen.functions import QUANTITIES
+        from eomgen.numeric import NumericEoM
 
-        self.env.note_dependency(inspect.getfile(NumericEoM))
+        for obj in (NumericEoM, NumericEoM.M):  # the class, and the module of its evaluations
+            self.env.note_dependency(inspect.getfile(obj))
         m = sp.Symbol("m", positive=True)
         system = eg.System(gravity=(0, -9.81, 0))
         cart = system.add_body("cart", joint=eg.Prismatic("x", axis=(1, 0, 0)), mass=1)

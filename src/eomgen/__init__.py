@@ -1,10 +1,11 @@
 """eomgen: symbolic equations of motion of multibody systems, M(q) u̇ + b(q, u) + g(q) = τ + Sᵀ τ_a,
 derived by several methods and turned into verified numeric code."""
-__version__ = "0.1.0"
+from .version import __version__  # noqa: F401  (re-exported)
+from . import deprecated  # noqa: F401  (old module names, for one release)
 
-from .assembly import assemble, project
 from .check_answer import check_answer
-from .codegen import codegen, write_c, write_module
+from .codegen import codegen, write_c, write_module  # the package first: eg.codegen is the function
+from .numeric import assemble, project, reduce
 from .eom import EquationsOfMotion
 from .errors import ModelError
 from .kinematics import Kinematics
@@ -15,7 +16,6 @@ from .model import (Cylindrical, DHLink, Fixed, FlexibleLink, FreeFlyer, Helical
                     Revolute, Spherical, System, Translation, Universal, from_dh, from_mjcf, from_urdf,
                     robots)
 from .progress import quiet
-from .reduction import reduce
 from .simplification import simplified
 from .worked import Solution, Step, solution
 from .state import difference, integrate, random_states

@@ -7,7 +7,7 @@ import sys
 import time
 from pathlib import Path
 
-from .codegen import write_c, write_module
+from .printers import write_c, write_module
 from .errors import ModelError
 from .methods import METHODS, derive
 from .model import System, from_urdf, robots

@@ -13,14 +13,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-import sympy as sp
 
-from .codegen import NumericEoM, codegen
-from .codegen.kane import NumericKane
+from .numeric import NumericEoM, NumericKane, codegen
 from .errors import ModelError
 from .methods import derive
 from .model import System
-from .model.loads import Point
 from .simulate import Simulation, functions
 
 if TYPE_CHECKING:
@@ -44,9 +41,8 @@ def stick_figure(
 ) -> tuple[np.ndarray, list[tuple[int, int]], list[int], list[int]]:
     """(points (N, K, 3), lines as pairs of point indices, dots, crosses) at the states q (N, nq): the body
     origins (`placement`), their centres of mass and the named frames' origins."""
-    system, kin = f.eom.system, f.eom.kinematics
+    system = f.system
     bodies, frames = system.bodies, list(system.frames.values())
-    f._function("centres", lambda: sp.Matrix.hstack(*(kin.position(Point(b, b.com)) for b in bodies)))
     origins = [f.placement(b.name, q, params)[1] for b in bodies]
     points = np.stack(
         [

@@ -119,7 +119,9 @@ class EquationsOfMotion(ClosedForms):
         """Generalized forces of all loads: forces, torques, actuators, springs, dampers."""
         return self.subexpressions.inline(self.tau_compact)
 
-    def _free_cut_result(self, key: str):
+    def free_cut_result(self, key: str):
+        """The free cut's result `key` (joint_wrenches, reactions, cut_equations), refused naming the method
+        for equations of another."""
         if key not in self.extras:
             raise ModelError(f"{key} are a result of the free cut with all of M, b, g: derive with "
                              f"method='free_cut' and no quantities= (these equations come from {self.method!r}"
@@ -131,20 +133,20 @@ class EquationsOfMotion(ClosedForms):
         """Per joint, the force and torque the parent exerts on the body at the joint origin (world
         axes), in q, u, u̇ and the loads: the reaction plus the joint force along the free direction."""
         return ByName("joint", {j: self._split(self.subexpressions.inline(W))
-                                for j, W in self._free_cut_result("joint_wrenches").items()})
+                                for j, W in self.free_cut_result("joint_wrenches").items()})
 
     @property
     def reactions(self) -> dict[str, tuple[sp.Matrix, sp.Matrix]]:
         """Per joint, the reaction force and torque (world axes, at the joint origin): the joint
         wrench without its component along the joint's free direction."""
         return ByName("joint", {j: self._split(self.subexpressions.inline(W))
-                                for j, W in self._free_cut_result("reactions").items()})
+                                for j, W in self.free_cut_result("reactions").items()})
 
     @property
     def cut_equations(self):
         """The free cut before elimination (see `methods.free_cut.CutEquations`)."""
         if "_cut" not in self._closed:
-            self._closed["_cut"] = self._free_cut_result("cut_equations")()
+            self._closed["_cut"] = self.free_cut_result("cut_equations")()
         return self._closed["_cut"]
 
     @staticmethod

@@ -40,6 +40,13 @@ def available(eom: EquationsOfMotion) -> bool:
     return not _flexible(eom) or all(k in eom.compact for k in ("M", "b", "g"))
 
 
+def unavailable(eom: EquationsOfMotion) -> str:
+    """Why the inverse dynamics cannot be formed (flexible links without M, b, g)."""
+    missing = [k for k in ("M", "b", "g") if k not in eom.compact]
+    return (f"inverse dynamics of a system with flexible links is M u̇ + b + g: derive {missing} too "
+            "(quantities=None)")
+
+
 def _flexible(eom: EquationsOfMotion) -> bool:
     return any(isinstance(j, FlexibleLink) for j in eom.system.joints)
 
@@ -49,11 +56,7 @@ def _inverse_dynamics(eom: EquationsOfMotion) -> sp.Matrix:
     if not _flexible(eom):
         return recursive.inverse_dynamics(eom.kinematics)
     if not available(eom):
-        missing = [k for k in ("M", "b", "g") if k not in eom.compact]
-        raise ModelError(
-            f"inverse dynamics of a system with flexible links is M u̇ + b + g: derive {missing} "
-            "too (quantities=None)"
-        )
+        raise ModelError(unavailable(eom))
     return matmul(eom.compact["M"], system.ud) + eom.compact["b"] + eom.compact["g"]
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from .codegen.kane import NumericKane
+from .numeric import NumericKane
 from .errors import ModelError
 from .simulate import Simulation
 

@@ -20,10 +20,9 @@ import numpy as np
 from scipy.integrate import DOP853, RK23, RK45, solve_ivp
 
 from .arguments import finite_array
-from .assembly import numeric, project
-from .codegen import NumericEoM, codegen
-from .codegen.kane import NumericKane
-from .codegen.rhs import efforts
+from .numeric import NumericEoM, NumericKane, codegen, project
+from .numeric.assembly import numeric
+from .numeric.state_equations import efforts
 from .eom import EquationsOfMotion
 from .errors import ModelError
 from .methods.kane import KaneEquations

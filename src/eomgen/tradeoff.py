@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .codegen import codegen
+from .numeric import codegen
 from .methods import derive
 from .model import Fixed, Prismatic, Revolute, System
 from .progress import progress
@@ -102,7 +102,7 @@ def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, level
     def timing(f, q_, u_, dtype=float, keys=("M", "b", "g")):
         fns = [f.functions[k] for k in keys]
         args = [np.ascontiguousarray(x.T, dtype=dtype) for x in (q_, u_, np.zeros_like(u_))]
-        p = [float(x) for x in f._p(None, "M")]
+        p = [float(x) for x in f.parameter_vector(None, "M")]
         t0 = time.perf_counter()
         outs = [g.function(*args, p, np.zeros(g.shape + q_.shape[:1], dtype=dtype),
                            np.sin, np.cos, np.sqrt, np) for g in fns]
@@ -114,12 +114,12 @@ def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, level
         if not with_c:
             return None
         fc = compiled or codegen(f.eom, backend="c")
-        calls = [(fc.functions[k].function, fc._pvec(None, k)) for k in keys]
+        fc.generate(list(keys))
         best = np.inf
         for _ in range(3):
             t0 = time.perf_counter()
-            for function, p in calls:
-                function(q_, u_, None, p)
+            for k in keys:
+                fc.call(k, q_, u_)
             best = min(best, time.perf_counter() - t0)
         return best / len(q_) * 1e6
 

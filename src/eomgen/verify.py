@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .codegen import codegen
+from .numeric import codegen
 from .errors import ModelError
 from .methods import derive
 from .model import (Cylindrical, FreeFlyer, Helical, Planar, Prismatic, Revolute, Spherical, System,

@@ -14,12 +14,12 @@ from dataclasses import replace
 import numpy as np
 from scipy.linalg import qr
 
-from ..codegen import codegen
-from ..codegen.derivative_functions import forward_dynamics
-from ..codegen.parameters import Parameters
+from ..functions import forward_dynamics
+from ..numeric import codegen
+from ..numeric.parameters import Parameters
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
-from ..reduction import Reduced
+from ..numeric.reduction import Reduced
 from .chart import Chart
 from .motors import motor_pieces
 from .dual import Algebra, Dual, placed, solve

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..codegen.parameters import Parameters
+from ..numeric.parameters import Parameters
 from ..errors import ModelError
 from ..methods.kane import KaneEquations
 from .chart import Chart

@@ -16,10 +16,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from ..codegen import Generated
-from ..codegen.numpy_backend import FunctionWriter, compile_function
-from ..codegen.parameters import Parameters
-from ..codegen.runtime import runtime_namespace
+from ..numeric.parameters import Parameters
+from ..printers.python import compile_function
+from ..printers.runtime import runtime_namespace
+from ..printers.walker import FunctionWriter, Generated
 from ..derivatives import jacobian, speed_seeds, tangent_seeds
 from ..errors import ModelError
 from ..subexpressions import Subexpressions

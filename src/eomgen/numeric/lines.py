@@ -13,39 +13,22 @@ such loads."""
 from __future__ import annotations
 
 import numpy as np
-import sympy as sp
 
 from ..errors import ModelError
-from ..model.loads import Actuator, Damper, Spring
-
-
-def line_loads(system) -> list:
-    """The loads whose force needs the direction d/|d|: dampers, actuators with a force along the line,
-    springs with a rest length (a zero-length spring's −k d needs none)."""
-    return [x for x in system.loads
-            if isinstance(x, Damper) or isinstance(x, Actuator) and x.force is not None
-            or isinstance(x, Spring) and not x.rest_length.is_zero]
-
-
-def lengths(eom, loads: list) -> sp.Matrix:
-    """|r_a − r_b| of each load."""
-    kin = eom.kinematics
-    return sp.Matrix([sp.sqrt(sum(x ** 2 for x in kin.position(x.a) - kin.position(x.b))) for x in loads])
 
 
 def check_ends(f, result: np.ndarray, q, params) -> np.ndarray:
     """`result` when finite; else a ModelError naming a line load whose ends meet at q (the first such
     state of a batch), if one does (other causes are reported where they are known)."""
-    if not f._lines or np.isfinite(result).all():
+    if not f.line_loads or np.isfinite(result).all():
         return result
-    f._function("line_lengths", lambda: lengths(f.eom, f._lines))
     d = np.atleast_2d(f.call("line_lengths", q, params=params)[..., 0])
     met = np.argwhere(d == 0)
     if met.size:
         k, i = met[0]
-        load, state = f._lines[i], np.atleast_2d(np.asarray(q, dtype=float))[k]
+        load, state = f.line_loads[i], np.atleast_2d(np.asarray(q, dtype=float))[k]
         kind, batch = type(load).__name__.lower(), f" (state {k} of the batch)" if np.ndim(q) == 2 else ""
         raise ModelError(f"{kind} '{load.name}': its ends meet at q = {state.tolist()}{batch} "
                          "(|r_a − r_b| = 0 in float64), where the line it acts along is undefined (0/0; see "
-                         "eomgen.codegen.lines)")
+                         "eomgen.numeric.lines)")
     return result

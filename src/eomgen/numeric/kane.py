@@ -10,25 +10,20 @@ over states):
 from __future__ import annotations
 
 import numpy as np
-import sympy as sp
 
 from ..arguments import count, finite_array, positive
 from ..errors import ModelError
+from ..functions import kane_catalogue
+from ..printers.build.extension import compiler, python_headers
 from ..state import unit_quaternions
-from . import Generated, NumericEoM
-from .derivative_functions import KaneRefusals
-from .c_backend import CompiledEoM, extension_functions
+from .compiled import Compiled
 from .contacts import refuse_flat
-from .extension import compiler, python_headers
-from .numpy_backend import C_TRIG, PYTHON, FunctionWriter, compile_function
+from .facade import Functions
 from .parameters import Parameters, actuated
-from .rhs import efforts, nonconservative, power, split
-from .runtime import runtime_namespace
-
-_call = runtime_namespace()["_call"]
+from .state_equations import efforts, split, work_rate
 
 
-class NumericKane(KaneRefusals):
+class NumericKane(Functions):
     """Numeric Kane's equations in the independent speeds w (here: w_ind): mass_matrix(q, w), forcing(q, w),
     qdot(q, w) (the coordinate rates, nq of them), joint_speeds(q, w) (u, n of them), dependent_speeds(q, w),
     active_forces(q, w), `rhs(t, x, tau)` for x = [q, w_ind] (solve_ivp), its `energy` and `power`; with
@@ -36,43 +31,28 @@ class NumericKane(KaneRefusals):
     coordinates held).
     One state (q of shape (nq,)) or N states (N, nq); parameters by name in `params`."""
 
-    syntax = PYTHON
-
     def __init__(self, kane) -> None:
         self.kane = kane
         self.system = kane.system  # the model the functions were generated from
         self.n = len(kane.speeds)  # as many as the joint speeds u
-        self.nq, self.nv = len(kane.system.q), len(kane.independent)
-        self.parameters = Parameters(kane.parameters)
-        self.params = self.parameters.symbols  # p[k] of the generated code, sorted by name
+        self.nv = len(kane.independent)
         self._dep, self._ind = kane._indices()
         self._q_dep = [list(kane.system.q).index(x) for x in kane.dependent_coordinates]
-        w_inputs = [] if kane.speeds_are_qdot else list(kane.speeds)  # else w is u itself
-        writer = FunctionWriter(kane.subexpressions, {"q": list(kane.system.q), "u": list(kane.system.u),
-                                                      "ud": w_inputs, "p": self.params}, self.syntax)
         self.S = np.array(kane.system.S.tolist(), dtype=float).reshape(-1, self.n)
-        exprs = {**kane.compact, "energy": sp.Matrix([kane.eom.compact["T"], kane.eom.compact["U"]]),
-                 "tau_nc": nonconservative(kane.eom)}
-        keys = [k for k in ("M", "h", "Y", "C", "rates", "qdot", "holonomic", "energy", "tau_nc", "tilt")
-                if (k != "C" or kane.dependent) and (k != "qdot" or not kane.joint_speeds_are_rates)
-                and (k != "holonomic" or kane.dependent_coordinates)
-                and (k != "tilt" or kane.system.rolling)]
-        written = []
-        for i, key in enumerate(keys):
-            source, shape, ops = writer.source(f"e{i}", exprs[key], symmetric=key == "M")
-            written.append((key, source, shape, ops, writer.trig_indices))
-        self.functions: dict[str, Generated] = self._compile(written)
-
-    def _compile(self, written: list) -> dict[str, Generated]:
-        return {key: Generated(source, shape, ops, compile_function(source, key, f"e{i}"))
-                for i, (key, source, shape, ops, _) in enumerate(written)}
-
-    _p, bind = NumericEoM._p, NumericEoM.bind
+        catalogue = kane_catalogue(kane)
+        super().__init__(catalogue, Parameters(catalogue.inputs["p"]))
 
     def _eval(self, key: str, q, u=None, w=None, params=None) -> np.ndarray:
         """Generated function `key` at (q, u, w): shape batch + (rows, cols)."""
-        f = self.functions[key]
-        return _call(f.function, f.shape, self.nq, self.n, q, u, w, self._p(params, key))
+        return self.call(key, q, u, w, params)
+
+    def _refuse(self, *args, **kwargs):
+        raise ModelError(
+            "inverse_dynamics, inverse_dynamics_derivatives and forward_dynamics_derivatives are "
+            "generated for EquationsOfMotion (eg.derive(system)), not for Kane's equations"
+        )
+
+    inverse_dynamics = inverse_dynamics_derivatives = forward_dynamics_derivatives = _refuse
 
     def _w(self, w) -> np.ndarray | None:
         return None if self.kane.speeds_are_qdot else w
@@ -190,11 +170,11 @@ class NumericKane(KaneRefusals):
 
     def power(self, t, x, tau=None, params=None) -> np.ndarray:
         """Ẇ = uᵀ (Sᵀ τ_a + τ_nc), u the joint speeds: the power of the actuators and of the loads but
-        springs (`codegen.rhs`)."""
+        springs (`numeric.state_equations`)."""
         self._without_motors()
         q, w = split(x, [self.nq, self.nv], "q, w_ind", batch=True)
         u = self.joint_speeds(q, w, params)
-        return power(u, self._eval("tau_nc", q, u, params=params)[..., 0], efforts(tau, t, q, w), self.S)
+        return work_rate(u, self._eval("tau_nc", q, u, params=params)[..., 0], efforts(tau, t, q, w), self.S)
 
     def energy(self, x, params=None) -> np.ndarray:
         """E = T + U at the joint speeds u of (q, w_ind)."""
@@ -203,19 +183,11 @@ class NumericKane(KaneRefusals):
         return self._eval("energy", q, self.joint_speeds(q, w, params), params=params)[..., 0].sum(-1)
 
 
-class CompiledKane(NumericKane):
+class CompiledKane(Compiled, NumericKane):
     """`NumericKane` with the symbolic pieces compiled from C (per call and batched); solves in NumPy."""
 
-    syntax = C_TRIG
+    batches = False
 
     def __init__(self, kane) -> None:
         compiler(), python_headers()  # a clear error before any work
         super().__init__(kane)
-
-    def _compile(self, written: list) -> dict[str, Generated]:
-        return extension_functions(written, self.nq, self.n, len(self.params))
-
-    _pvec = CompiledEoM._pvec
-
-    def _eval(self, key, q, u=None, w=None, params=None) -> np.ndarray:
-        return self.functions[key].function(q, u, w, self._pvec(params, key))

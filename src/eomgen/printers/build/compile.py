@@ -19,8 +19,8 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import ModelError
-from ..progress import progress
+from ...errors import ModelError
+from ...progress import progress
 
 UNIT = 60_000  # characters of definitions per translation unit
 LARGE = 20_000  # characters from which a unit is compiled at -O1

@@ -34,8 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError
-from . import vector
+from ...errors import ModelError
+from .lanes import DRIVER, TYPES, machine
 from .compile import COMPILE, Unit, build_library, optimisation, translation_units
 
 # batches over the cores with vector sin and cos; else one core, scalar sin and cos
@@ -373,7 +373,7 @@ def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: 
     and cos(q[k]) it reads) and their wrappers; `_attach` and `_hook` take the vector functions
     (`vector`)."""
     sizes = f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n#define NF {len(functions)}\n"
-    parts = [sizes, PRELUDE, vector.TYPES, vector.DRIVER, EVALUATE]
+    parts = [sizes, PRELUDE, TYPES, DRIVER, EVALUATE]
     table = ['    {"_attach", attach, METH_O, NULL},', '    {"_hook", set_hook, METH_O, NULL},']
     for i, (source, (rows, cols), trig) in enumerate(functions):
         parts.append(source)  # static functions (`numpy_backend.C_TRIG`)
@@ -450,7 +450,7 @@ def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_par
         entries = [(header if i == 0 else "", shape, trig) for i, (shape, trig) in enumerate(shapes)]
         compile_module(module_source(name, entries, nq, nv, n_params), units, target)
 
-    content = (PRELUDE, vector.TYPES, vector.DRIVER, EVALUATE, header, layout, shapes, nq, nv, n_params)
+    content = (PRELUDE, TYPES, DRIVER, EVALUATE, header, layout, shapes, nq, nv, n_params)
     return compiled(content, make)
 
 
@@ -458,8 +458,8 @@ def compiled(content, make: Callable[[str, Path], None]):
     """The module `make(name, target)` compiles for `content` (all it is made of), compiled once per distinct
     content, compiler, flags, machine, Python and NumPy, and imported; a cached module that is not intact or
     does not load is rebuilt once."""
-    machine = (compiler(), COMPILE, ATTEMPTS, vector.machine(), sys.version, np.__version__)
-    key = repr((content, *machine)).encode()
+    built_for = (compiler(), COMPILE, ATTEMPTS, machine(), sys.version, np.__version__)
+    key = repr((content, *built_for)).encode()
     name = "eomgen_" + hashlib.sha256(key).hexdigest()[:24]
     target = cache_dir() / (name + sysconfig.get_config_var("EXT_SUFFIX"))
     if name in sys.modules:

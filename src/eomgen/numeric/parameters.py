@@ -12,94 +12,21 @@ negative, nonnegative, nonpositive, nonzero, integer) is an error naming the par
 fixes the values once: the bound functions then take no params, but for the state parameters (the
 motor currents, which `rhs` takes from its state x).
 
-The vector and the actuator term are computed by one text (`RUNTIME`), run by eomgen and written
-verbatim into generated modules, which need only numpy."""
+The vector and the actuator term are computed by one text (`printers.runtime.PARAMETERS`), run by
+eomgen and written verbatim into generated modules, which need only numpy."""
 from __future__ import annotations
 
 import copy
-import math
 from collections.abc import Iterable, Mapping
 
 import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
+from ..functions import assumptions, sorted_parameters
+from ..printers.runtime import runtime_namespace
 
-RUNTIME = '''
-_TESTS = {"positive": (lambda x: x > 0.0, "> 0"), "negative": (lambda x: x < 0.0, "< 0"),
-          "nonnegative": (lambda x: x >= 0.0, ">= 0"), "nonpositive": (lambda x: x <= 0.0, "<= 0"),
-          "nonzero": (lambda x: x != 0.0, "nonzero"),
-          "integer": (lambda x: x == math.floor(x), "an integer")}
-
-
-def _parameter_vector(names, index, used, values, rules):
-    """p (p[k]: the value of names[k]; index maps a name or symbol to k) from a mapping {name: value};
-    the k outside `used` may be left out (0.0). rules[k]: the assumptions (_TESTS) p[k] must meet."""
-    if values is None:
-        values = {}
-    if not isinstance(values, Mapping):
-        raise _Error("params: expected a mapping {name: value} (parameters are given by name only), got %s;"
-                     " the parameters are %s" % (type(values).__name__, list(names)))
-    p = [0.0] * len(names)
-    given, unknown, bad, wrong = set(), [], [], []
-    for key, value in values.items():
-        k = index.get(key)
-        if k is None:
-            k = index.get(str(key))
-            if k is None:
-                unknown.append(str(key))
-                continue
-        try:
-            p[k] = math.nan if isinstance(value, (str, bytes, bool, numpy.bool_)) else float(value)
-        except (TypeError, ValueError):
-            p[k] = math.nan
-        if not math.isfinite(p[k]):
-            bad.append(names[k])
-        elif k in rules:
-            for rule in rules[k]:
-                if not _TESTS[rule][0](p[k]):
-                    wrong.append("%s = %r (must be %s)" % (names[k], p[k], _TESTS[rule][1]))
-        given.add(k)
-    if unknown:
-        raise _Error("params: unknown parameters %s; the parameters are %s" % (unknown, list(names)))
-    if not given.issuperset(used):
-        missing = [names[k] for k in sorted(set(used) - given)]
-        raise _Error("params: values missing for the parameters %s" % missing)
-    if bad:
-        raise _Error("params: the values of %s are not finite real numbers (strings and bools are refused)"
-                     % bad)
-    if wrong:
-        raise _Error("params: values contradicting the parameters' assumptions: %s" % "; ".join(wrong))
-    return p
-
-
-def _actuated(h, tau_a, S):
-    """h + Sᵀ τ_a, τ_a with one value per actuated joint (per state, or one for all states)."""
-    if tau_a is None:
-        return h
-    tau_a = numpy.asarray(tau_a, dtype=float)
-    if tau_a.shape[-1:] != (S.shape[0],) or not numpy.all(numpy.isfinite(tau_a)):
-        raise _Error("tau_a: expected %d finite values (one per actuated joint), got shape %s"
-                     % (S.shape[0], tau_a.shape))
-    return h + tau_a @ S
-'''
-
-SIGNS = ("positive", "negative", "nonnegative", "nonpositive", "nonzero")  # the strongest first
-
-
-def assumptions(symbol: sp.Symbol) -> tuple[str, ...]:
-    """The assumptions of `symbol` a value is checked against: its strongest sign rule, and integer."""
-    sign = next((a for a in SIGNS if getattr(symbol, f"is_{a}")), None)
-    return tuple(a for a in (sign, "integer" if symbol.is_integer else None) if a)
-
-
-def _namespace() -> dict:
-    namespace = {"math": math, "numpy": np, "Mapping": Mapping, "_Error": ModelError}
-    exec(RUNTIME, namespace)  # eomgen's own fixed text
-    return namespace
-
-
-_runtime = _namespace()
+_runtime = runtime_namespace()
 parameter_vector, actuated = _runtime["_parameter_vector"], _runtime["_actuated"]
 
 
@@ -110,12 +37,9 @@ class Parameters:
     values: np.ndarray | None = None  # p, once every parameter is bound
 
     def __init__(self, symbols: Iterable[sp.Symbol], state: Iterable[sp.Symbol] = ()) -> None:
-        self.symbols = sorted(symbols, key=str)
+        self.symbols = sorted_parameters(symbols)
+        #: the parameter names, sorted: p[k] is the value of names[k]
         self.names = tuple(str(s) for s in self.symbols)
-        twice = sorted({n for n in self.names if self.names.count(n) > 1})
-        if twice:
-            raise ModelError(f"parameters {twice} each name two different symbols (other assumptions): "
-                             "parameters are given by name, so their names must differ")
         self.index = {**{n: k for k, n in enumerate(self.names)},
                       **{s: k for k, s in enumerate(self.symbols)}}  # by name or by symbol
         self.assumptions = {str(s): a for s in self.symbols if (a := assumptions(s))}

@@ -18,11 +18,12 @@ import sympy as sp
 
 import warnings
 
+from ..errors import ModelError
+from ..state import random_states
 from .assembly import numeric, speed_indices
-from .codegen.contacts import RANK_RTOL, redundant_rows
-from .codegen.parameters import actuated
-from .errors import ModelError
-from .state import random_states
+from .constrained import held, row_sizes
+from .contacts import RANK_RTOL, redundant_rows
+from .parameters import actuated
 
 SYMBOLIC_LIMIT = 3  # dependent speeds up to which J_d⁻¹ is written by its adjugate
 
@@ -59,8 +60,8 @@ class Reduced:
     def _rows(self, params) -> np.ndarray:
         """The rows of J_c some motion can violate and that repeat none before them (`_repeating`), one per
         dependent speed (refused otherwise)."""
-        size = self.f._row_sizes(params)
-        key = tuple(np.ravel(self.f._p(params, "J_c")))
+        size = row_sizes(self.f, params)
+        key = tuple(np.ravel(self.f.parameter_vector(params, "J_c")))
         if key not in self._kept:
             self._kept[key] = self._repeating(size, params)
         active = self._kept[key]
@@ -91,8 +92,8 @@ class Reduced:
     def _J_d(self, q, params) -> tuple[np.ndarray, np.ndarray]:
         """(J_d, J_i), J_d refused when singular at q (naming the rows and speeds it cannot resolve)."""
         kept = self._rows(params)
-        held, J, rows = self.f._held(q, params)
-        J, rows = J[kept[held]], [r for r, k in zip(rows, kept[held]) if k]
+        kept_here, J, rows = held(self.f, q, params)
+        J, rows = J[kept[kept_here]], [r for r, k in zip(rows, kept[kept_here]) if k]
         J_d = J[:, self.dependent]
         if J_d.shape[0] < J_d.shape[1]:
             raise ModelError(f"reduce: J_d is singular at this state: only rows {rows} can be violated "

@@ -8,13 +8,14 @@ from collections.abc import Iterable
 import numpy as np
 import sympy as sp
 
-from .arguments import count, finite_array, positive
-from .codegen import NumericEoM, codegen
-from .eom import EquationsOfMotion
-from .errors import ModelError
-from .methods import derive
-from .model import System
-from .state import integrate, unit_quaternions
+from ..arguments import count, finite_array, positive
+from ..eom import EquationsOfMotion
+from ..errors import ModelError
+from ..methods import derive
+from ..model import System
+from ..state import integrate, unit_quaternions
+from .codegen import codegen
+from .equations import NumericEoM
 
 HALVINGS = 30  # step halvings before a Gauss–Newton step counts as stalled
 TOL = 1e-12  # closure tolerance, and smallest singular value of J_r kept, per unit of the problem's `size`
@@ -70,9 +71,6 @@ def size(f: NumericEoM, q, params=None) -> float:
     """max(1, the largest world coordinate ‖p‖_∞ of the loop frames and rolling disks' centres at q) in the
     system's length unit: r's position rows are differences of such p, so round-off leaves ~ε ‖p‖_∞ in them
     (and in J_r) however small the mechanism is; 1 keeps an absolute floor near the origin."""
-    kin, system = f.eom.kinematics, f.eom.system
-    names = [n for x in system.loops for n in (x.frame_a, x.frame_b)] + [x.body.name for x in system.rolling]
-    f._function("closure_frames", lambda: sp.Matrix.hstack(*(kin.frame_placement(n)[1] for n in names)))
     return max(1.0, float(np.abs(f.call("closure_frames", q, params=params)).max()))
 
 
