@@ -10,22 +10,36 @@ from .equations import NumericEoM
 from .kane import CompiledKane, NumericKane
 from .parameters import bind
 
-BACKENDS = ("numpy", "c")
+BACKENDS = ("numpy", "c", "jax", "casadi")
 
 
-def codegen(eom, backend: str = "numpy", params: Mapping | None = None):
-    """Numeric functions of an `EquationsOfMotion` (or of `KaneEquations`): backend "numpy", or "c"
-    (compiled with the machine's C compiler; same functions, per call and batched). With `params`
-    ({name: value}, every parameter but the motor currents) the values are bound once and the calls
-    take no params."""
+def codegen(eom, backend: str = "numpy", params: Mapping | None = None, dtype: str = "float64"):
+    """Numeric functions of an `EquationsOfMotion` (or of `KaneEquations`): backend "numpy", "c"
+    (compiled with the machine's C compiler; same functions, per call and batched), "jax" (JAX functions:
+    jit, vmap, grad; `dtype` "float64" or "float32") or "casadi" (CasADi functions on SX, `f.casadi`).
+    With `params` ({name: value}, every parameter but the motor currents) the values are bound once and
+    the calls take no params."""
     expect_equations(eom, "codegen", KaneEquations)
     if backend not in BACKENDS:
         raise ModelError(f"unknown backend {backend!r}; available: {list(BACKENDS)}")
+    if dtype != "float64" and backend != "jax":
+        raise ModelError(f"dtype: only the JAX backend computes in {dtype!r}; {backend!r} computes in float64")
     kane = isinstance(eom, KaneEquations)
+    if kane and backend in ("jax", "casadi"):
+        raise ModelError(f"the {backend} backend prints EquationsOfMotion (eg.derive); Kane's equations "
+                         "have the NumPy and C backends")
     if backend == "c":
         from .compiled import CompiledEoM
 
         f = CompiledKane(eom) if kane else CompiledEoM(eom)
+    elif backend == "jax":
+        from .jax_functions import JaxEoM
+
+        f = JaxEoM(eom, dtype)
+    elif backend == "casadi":
+        from .casadi_functions import CasadiEoM
+
+        f = CasadiEoM(eom)
     else:
         f = NumericKane(eom) if kane else NumericEoM(eom)
     return f if params is None else bind(f, params)

@@ -28,7 +28,7 @@ class Syntax:
     select: str  # Piecewise: value {a} where {c}, else {b}
     sign: str
     heaviside: str  # of {x}, {h} at 0
-    logic: tuple[str, str, str]  # and, or (infix), not ({c})
+    logic: tuple[str, str, str]  # and, or (infix, or calls of {a}, {b}), not ({c})
     nan: str  # a Piecewise's value where no condition holds
     functions: dict[str, str]  # sympy's function name: the name printed
     trig_q: str = "{f}({x})"  # sin / cos of q[k]; the extension reads them from arrays (sinq, cosq)

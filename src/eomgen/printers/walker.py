@@ -116,8 +116,10 @@ class Printer:
             return f"({self(c.lhs)} {c.rel_op} {self(c.rhs)})"
         if isinstance(c, (sp.And, sp.Or)):
             self.ops += len(c.args) - 1
-            op = self.syntax.logic[isinstance(c, sp.Or)]
-            return "(" + f" {op} ".join(self._condition(a) for a in c.args) + ")"
+            op, parts = self.syntax.logic[isinstance(c, sp.Or)], [self._condition(a) for a in c.args]
+            if "{a}" in op:  # a call of two arguments, nested
+                return reduce(lambda x, y: op.format(a=x, b=y), parts)
+            return "(" + f" {op} ".join(parts) + ")"
         if isinstance(c, sp.Not):
             self.ops += 1
             return self.syntax.logic[2].format(c=self._condition(c.args[0]))
