@@ -1,4 +1,5 @@
-"""Python/NumPy source for the equations of motion.
+"""The expression walker every printer shares (`Printer`, `FunctionWriter`): a catalogue function as
+source text.
 
 A generated function `f(q, u, ud, p, out, sin, cos, sqrt, m)` evaluates, in order, the intermediates its
 outputs need and writes the outputs into `out` (shape (rows, cols) + batch), each output as soon as the
