@@ -88,6 +88,7 @@ class Evaluate:
     model: Model
     key: str
     inputs: tuple[str, ...]  # the states `key` reads, of "q", "u", "ud"
+    columns: dict[str, int]  # the columns of q, u and ud
     params: dict | None
     make: Callable | None = None
     chunk: int = 0
@@ -96,7 +97,8 @@ class Evaluate:
     def __call__(self, *blocks, block_id=None) -> np.ndarray:
         if self.make is not None:
             k = block_id[0]
-            blocks = picked(self.make(k, min(self.chunk, self.n - k * self.chunk)), self.inputs)
+            made = self.make(k, min(self.chunk, self.n - k * self.chunk))
+            blocks = picked(made, self.inputs, self.columns)
         return self.at(self.model.functions(), blocks)
 
     def at(self, f, blocks) -> np.ndarray:
@@ -105,23 +107,21 @@ class Evaluate:
         return f.call(self.key, states["q"], states.get("u"), states.get("ud"), self.params)
 
 
-def picked(states, inputs: tuple[str, ...]) -> list:
-    """The arrays `inputs` of states q, (q, u) or (q, u, u̇), each 2-D with as many rows as q, else a
-    ModelError naming states."""
+def picked(states, inputs: tuple[str, ...], columns: dict[str, int]) -> list:
+    """The arrays `inputs` (of "q", "u", "ud") of states q, (q, u) or (q, u, u̇); each array given 2-D,
+    with the rows of q and its `columns`; else a ModelError naming states."""
     if not isinstance(states, (tuple, list)):
         states = (states,)
     if not 1 <= len(states) <= 3:
         raise ModelError(f"states: expected q, (q, u) or (q, u, ud), got {len(states)} arrays")
-    given = dict(zip(("q", "u", "ud"), states))
-    arrays = []
-    for name in inputs:
-        x = given.get(name)
-        if x is None:
-            raise ModelError(f"states: the function reads {', '.join(inputs)}; {name} is missing")
-        if len(np.shape(x)) != 2 or np.shape(x)[0] != np.shape(states[0])[0]:
-            raise ModelError(f"states: {name} must have shape (N, n), N the rows of q, got {np.shape(x)}")
-        arrays.append(x)
-    return arrays
+    given = {name: x for name, x in zip(("q", "u", "ud"), states) if x is not None}
+    for name, x in given.items():
+        if np.shape(x) != (*np.shape(given["q"])[:1], columns[name]):
+            raise ModelError(f"states: {name} must have shape (N, {columns[name]}), N the rows of q, got "
+                             f"{np.shape(x)}")
+    if missing := [name for name in inputs if name not in given]:
+        raise ModelError(f"states: the function reads {', '.join(inputs)}; {', '.join(missing)} missing")
+    return [given[name] for name in inputs]
 
 
 def client(cluster):
@@ -146,6 +146,18 @@ def client(cluster):
     return _clients[name]
 
 
+def reads(functions, key) -> tuple[str, ...]:
+    """The states function `key` reads (of "q", "u", "ud"), printed now on the client (a bad frame refused
+    here, a C module compiled once, into the cache the workers load it from); else a ModelError naming key."""
+    if not isinstance(key, str):
+        raise ModelError(f"key: expected a function's key such as 'M', 'nle' or 'J:<frame>', got {key!r}")
+    try:
+        functions.generate([key])
+        return tuple(s.strip() for s in functions.catalogue[key].inputs.split(","))
+    except ModelError as error:
+        raise ModelError(f"key: {error}") from None
+
+
 def count(n, name: str) -> int:
     """n, a positive integer, else a ModelError naming it."""
     if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 1:
@@ -166,26 +178,22 @@ def sweep(functions, key: str, states, chunk: int = 100_000, cluster=None, out: 
     except ImportError:
         raise ModelError("eg.sweep needs dask.distributed (and zarr for out=): pip install 'eomgen[sweep]'") \
             from None
+    built = model(functions)
+    columns = {name: len(functions.catalogue.inputs[name]) for name in ("q", "u", "ud")}
+    task = Evaluate(built, key, reads(functions, key), columns, params)
     chunk = count(chunk, "chunk")
-    if not isinstance(key, str):
-        raise ModelError(f"key: expected a function's key such as 'M', 'nle' or 'J:<frame>', got {key!r}")
-    try:
-        inputs = tuple(s.strip() for s in functions.catalogue[key].inputs.split(","))
-        functions.generate([key])  # on the client first: a bad item refused here, C compiled once
-    except ModelError as error:
-        raise ModelError(f"key: {error}") from None
-    task, pool = Evaluate(model(functions), key, inputs, params), client(cluster)  # dask's default now
     if callable(states):
         n = count(n, "n")
-        sample = picked(states(0, 1), inputs)
+        sample = picked(states(0, 1), task.inputs, columns)
         rows, blocks = (chunk,) * (n // chunk) + ((n % chunk,) if n % chunk else ()), []
-        task = Evaluate(task.model, key, inputs, params, states, chunk, n)
+        task = Evaluate(task.model, key, task.inputs, columns, params, states, chunk, n)
     else:
-        blocks = [da.asarray(x).rechunk((chunk, -1)) for x in picked(states, inputs)]
+        blocks = [da.asarray(x).rechunk((chunk, -1)) for x in picked(states, task.inputs, columns)]
         rows, sample = blocks[0].chunks[0], [np.asarray(x[:1]) for x in blocks]
         if n is not None and n != sum(rows):
             raise ModelError(f"n: {n!r} given for states of {sum(rows)} rows")
     shape = task.at(functions, sample).shape[1:]
+    pool = client(cluster)  # dask's default client from now on: the lazy array computes there
     result = da.map_blocks(task, *blocks, name=f"eomgen-sweep-{key}-{uuid.uuid4().hex}", dtype=float,
                            chunks=(rows, *((s,) for s in shape)), meta=np.empty((0, *shape)),
                            **({"drop_axis": 1, "new_axis": list(range(1, 1 + len(shape)))} if blocks else {}))
