@@ -20,6 +20,7 @@ from .simplification import simplified
 from .worked import Solution, Step, solution
 from .state import difference, integrate, random_states
 from .simulate import simulate
+from .sweep import sweep
 from .plotting import plot
 from .animation import animate
 from .view import View, view
@@ -33,5 +34,5 @@ __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed
            "derive", "from_dh", "from_mjcf",
            "from_urdf", "integrate", "kane", "linearize", "project", "quiet", "random_states", "reduce",
            "robots",
-           "difference", "simplified", "simulate", "plot", "animate", "solution",
+           "difference", "simplified", "simulate", "sweep", "plot", "animate", "solution",
            "tradeoff", "verify", "view", "View", "write_c", "write_module"]
