@@ -17,6 +17,7 @@ quadratic through τ_k, τ_m, τ_k+1 (`effort`), what the re-simulation with the
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
@@ -106,8 +107,9 @@ class Collocation:
                           stats["return_status"], stats["iter_count"])
 
 
-def figure(trajectory: Trajectory, sim: Simulation, title: str):
-    """eg.plot of the re-simulation (lines) with the collocation points (dots) over q, u and τ_a."""
+def figure(trajectory: Trajectory, sim: Simulation, title: str, path: Path | None = None):
+    """eg.plot of the re-simulation (lines) with the collocation points (dots) over q, u and τ_a; saved to
+    `path` when given."""
     fig = eg.plot(sim)
     nq = sim.q.shape[1]
     columns = (trajectory.x[:, :nq], trajectory.x[:, nq:], trajectory.tau)
@@ -115,4 +117,8 @@ def figure(trajectory: Trajectory, sim: Simulation, title: str):
         for line, column in zip(ax.get_lines(), values.T):
             ax.plot(trajectory.t, column, ".", color=line.get_color())
     fig.suptitle(f"{title}: collocation points (dots), C re-simulation (lines); IPOPT: {trajectory.status}")
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path)
+        print("wrote", path)
     return fig

@@ -1,17 +1,18 @@
-"""A Franka panda's point-to-point motion by direct collocation: eomgen's CasADi forward dynamics and the
+"""A Franka panda's point-to-point motion by direct collocation: eomgen's CasADi inverse dynamics and the
 hand's placement "X:panda_hand_tcp" in a `casadi.Opti` problem solved by IPOPT, the optimal torques
 replayed on the C backend.
 
 The arm's seven joints (the fingers locked closed, `System.reduced`) start at rest in the "ready" pose and
 must bring the hand's tool point to `GOAL`, a quarter turn to the side, pointing straight down (the third
 column of its rotation (0, 0, −1): its first two entries zero, the third negative), at rest after T seconds,
-within the joint ranges, speeds and torques of panda.urdf's limits, with the least effort ∫ Σ (τ_i / τ_max,i)² dt (collocation.py's
-Hermite–Simpson transcription). The torques found, applied open-loop to the compiled C functions
-(`eg.simulate`), bring the tool point to the goal within `TOLERANCE`.
+within the joint ranges, speeds and torques of panda.urdf's limits, with the least effort
+∫ Σ (τ_i / τ_max,i)² dt (collocation.py's Hermite–Simpson transcription). The torques found, applied
+open-loop to the compiled C functions (`eg.simulate`), bring the tool point to the goal within `TOLERANCE`.
 
 Run: python examples/panda_point_to_point.py [output folder]   (writes panda_point_to_point.png)"""
 import sys
 import warnings
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -29,10 +30,12 @@ U_MAX = np.array([2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61])  # rad/s, its <
 READY = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
 GOAL = np.array([0.0, 0.5, 0.3])  # m, the tool point's goal in the world (the arm's base) frame
 TOOL, T = "panda_hand_tcp", 0.8  # the frame, the duration (s)
-TOLERANCE = {"position": 1e-3, "axis": 1e-2, "speed": 0.2}  # the re-simulated end: m to the goal, the z-axis's
-# distance to (0, 0, −1), rad/s (open-loop: the replay drifts from the optimum as h⁴)
+# the re-simulated end: the tool point's distance to the goal (m), its z-axis's to (0, 0, −1), the joints'
+# speeds (rad/s); open-loop, the replay drifts from the optimum as the transcription's error, O(h⁴)
+TOLERANCE = {"position": 1e-3, "axis": 1e-2, "speed": 0.2}
 
 
+@cache
 def arm() -> eg.EquationsOfMotion:
     """The panda's equations with its fingers locked (a mimic warning on loading: they are locked anyway)."""
     with warnings.catch_warnings():
@@ -75,9 +78,7 @@ def main(folder: Path) -> None:
     print(f"re-simulated end: |p − goal| = {np.linalg.norm(X[:, 3] - GOAL):.2e} m, "
           f"|z − (0, 0, −1)| = {np.linalg.norm(X[:, 2] - [0, 0, -1]):.2e}, "
           f"max |u| = {np.abs(sim.u[-1]).max():.2e} rad/s (tolerances {TOLERANCE})")
-    folder.mkdir(parents=True, exist_ok=True)
-    figure(trajectory, sim, "panda point to point").savefig(folder / "panda_point_to_point.png")
-    print("wrote", folder / "panda_point_to_point.png")
+    figure(trajectory, sim, "panda point to point", folder / "panda_point_to_point.png")
 
 
 if __name__ == "__main__":
