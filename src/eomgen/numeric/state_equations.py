@@ -35,15 +35,16 @@ def work_rate(u, tau_nc, tau_a, S) -> np.ndarray:
     return np.einsum("...i,...i->...", u, actuated(tau_nc, tau_a, S))
 
 
-def split(x, sizes: list[int], names: str, batch: bool) -> list[np.ndarray]:
-    """x = [q, u, ...] cut into parts of `sizes` (x of shape (n,), or (N, n) if `batch`)."""
-    x, n = np.asarray(x, dtype=float), sum(sizes)
+def split(x, sizes: list[int], names: str, batch: bool, xp=np, dtype=float) -> list[np.ndarray]:
+    """x = [q, u, ...] cut into parts of `sizes` (x of shape (n,), or (N, n) if `batch`; arrays of module
+    `xp`)."""
+    x, n = xp.asarray(x, dtype=dtype), sum(sizes)
     if x.shape[-1:] != (n,) or x.ndim > 1 + batch:
         raise ModelError(
             f"x: expected [{names}] of shape ({n},){f' or (N, {n})' if batch else ''}, got shape "
             f"{x.shape}{'' if batch else ' (one state per call)'}"
         )
-    return np.split(x, np.cumsum(sizes)[:-1], axis=-1)
+    return xp.split(x, np.cumsum(sizes)[:-1].tolist(), axis=-1)
 
 
 def size(f) -> int:
