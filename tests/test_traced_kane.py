@@ -55,11 +55,12 @@ def system(request):
     return kane, params, tau, states, f, eg.codegen(kane, backend="jax"), eg.codegen(kane, backend="casadi")
 
 
-def numbers(f, kane, params, tau, q, u, wd, w, x) -> dict:
-    """Every piece of the catalogue at (q, u, wd), every algorithm at (q, w) and x = [q, w] of target f."""
+def numbers(f, kane, params, tau, q, u, wd, w, x, algorithms=ALGORITHMS) -> dict:
+    """Every piece of the catalogue at (q, u, wd), the `algorithms` at (q, w), rhs at x = [q, w] of target
+    f."""
     out = {key: f.call(key, q, u, wd, params) for key in kane_catalogue(kane).functions}
-    out.update({name: getattr(f, name)(q, w, params) for name in ALGORITHMS})
-    return {**out, "rhs": f.rhs(0, x, tau, params), "energy": f.energy(x, params)}
+    out.update({name: getattr(f, name)(q, w, params) for name in algorithms})
+    return {**out, "rhs": f.rhs(0, x, tau, params)}
 
 
 def agree(results: dict, expected: dict, what: str) -> None:
@@ -68,25 +69,32 @@ def agree(results: dict, expected: dict, what: str) -> None:
 
 
 def test_every_piece_and_algorithm_equals_numpy(system):
-    """One state and three: CasADi's functions (the pieces also as casadi.Function), JAX's under jit, its
-    batch of N states and vmap of its function of one state (one jit)."""
+    """CasADi: every piece (also as casadi.Function) and every algorithm, one state and three. JAX under
+    jit: every piece, mass_matrix, forcing, rhs and energy of one state; rhs of three states, as a batch
+    and by vmap."""
     kane, params, tau, states, f, fj, fc = system
     one = [x[0] for x in states]
     for at in (one, states):
-        agree(numbers(fc, kane, params, tau, *at), numbers(f, kane, params, tau, *at), "CasADi")
+        expected = numbers(f, kane, params, tau, *at)
+        agree(numbers(fc, kane, params, tau, *at), expected, "CasADi")
+        close(fc.energy(at[-1], params), f.energy(at[-1], params), 1e-12, "energy: CasADi")
     p = [[params[str(s)] for s in fc.params]] if fc.params else []  # the vector p, sorted by name
     for key in kane_catalogue(kane).functions:
         close(fc.casadi[key](*one[:3], *p).full(), f.call(key, *one[:3], params), 1e-12, f"{key}: casadi")
 
-    def traced(*at):
-        return numbers(fj, kane, params, tau, *at)
-    agree(jax.jit(traced)(*one), numbers(f, kane, params, tau, *one), "JAX")
-    batch, mapped = jax.jit(lambda *at: (traced(*at), jax.vmap(traced)(*at)))(*states)
-    expected = numbers(f, kane, params, tau, *states)
-    agree(batch, expected, "JAX, N states")
-    agree(mapped, expected, "JAX, vmap")
+    algorithms = ("mass_matrix", "forcing")
+    traced = jax.jit(lambda *at: (numbers(fj, kane, params, tau, *at, algorithms), fj.energy(at[-1], params)))
+    results, energy = traced(*one)
+    agree(results, numbers(f, kane, params, tau, *one, algorithms), "JAX")
+    close(energy, f.energy(one[-1], params), 1e-12, "energy: JAX")
+    X = states[-1]
+    rhs = jax.jit(lambda X: (fj.rhs(0, X, tau, params), jax.vmap(lambda x: fj.rhs(0, x, tau, params))(X)))
+    for result, what in zip(rhs(X), ("JAX, three states", "JAX, vmap")):
+        close(result, f.rhs(0, X, tau, params), 1e-12, f"rhs: {what}")
 
 
+@pytest.mark.parametrize("system", ["four-bar", pytest.param("rolling disk", marks=pytest.mark.slow)],
+                         indirect=True)  # XLA compiles the disk's Jacobian in seconds
 def test_jacfwd_of_rhs_is_the_finite_difference_of_numpy(system):
     """∂ẋ/∂x by jax.jacfwd (under jit) against (ẋ(x + h e_i) − ẋ(x − h e_i)) / 2h of the NumPy rhs,
     h = 1e-6 (truncation ~h², round-off ~ε/h: both below 1e-8)."""
