@@ -202,7 +202,8 @@ class NumericKane(Functions):
         self._without_motors()
         q, w = self._split(x)
         u = self.joint_speeds(q, w, params)
-        return work_rate(u, self._eval("tau_nc", q, u, params=params)[..., 0], efforts(tau, t, q, w), self.S)
+        tau_nc = self._eval("tau_nc", q, u, params=params)[..., 0]
+        return work_rate(u, self._actuated(tau_nc, efforts(tau, t, q, w)), self.xp)
 
     def energy(self, x, params=None) -> np.ndarray:
         """E = T + U at the joint speeds u of (q, w_ind)."""

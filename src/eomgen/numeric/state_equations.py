@@ -30,9 +30,9 @@ def efforts(tau, t, q, u):
     return tau(t, q, u) if callable(tau) else tau
 
 
-def work_rate(u, tau_nc, tau_a, S) -> np.ndarray:
-    """uᵀ (Sᵀ τ_a + τ_nc)."""
-    return np.einsum("...i,...i->...", u, actuated(tau_nc, tau_a, S))
+def work_rate(u, tau, xp=np) -> np.ndarray:
+    """uᵀ τ, per state (arrays of module `xp`)."""
+    return xp.einsum("...i,...i->...", u, tau)
 
 
 def split(x, sizes: list[int], names: str, batch: bool, xp=np, dtype=float) -> list[np.ndarray]:
@@ -87,7 +87,7 @@ def power(f, t, x, tau=None, params=None) -> np.ndarray:
     """Ẇ = uᵀ (Sᵀ τ_a + τ_nc) (+ Σ i (U − R i − k N q̇) with motors): the power of the actuators, of the
     loads but springs and bending (and of the motors' sources less their resistance)."""
     q, u, i, params = state(f, x, params)
-    P = work_rate(u, f.call("tau_nc", q, u, params=params)[..., 0], efforts(tau, t, q, u), f.S)
+    P = work_rate(u, actuated(f.call("tau_nc", q, u, params=params)[..., 0], efforts(tau, t, q, u), f.S))
     if i.size:
         circuit = f.call("motor", q, u, params=params)
         P = P + i @ (circuit[:, 0] - circuit[:, 1] * i)
