@@ -49,7 +49,8 @@ def system(request):
     kane, params, Q = SYSTEMS[request.param]()
     f = eg.codegen(kane)
     rng = np.random.default_rng(5)
-    U, WD, W = rng.normal(size=(len(Q), f._nu)), rng.normal(size=(len(Q), f._nu)), rng.normal(size=(len(Q), f.nv))
+    U, WD = rng.normal(size=(2, len(Q), f._nu))
+    W = rng.normal(size=(len(Q), f.nv))
     states = [Q, U, WD, W, np.c_[Q, W]]
     tau = np.linspace(0.5, 1.5, len(kane.system.actuated))
     return kane, params, tau, states, f, eg.codegen(kane, backend="jax"), eg.codegen(kane, backend="casadi")

@@ -68,6 +68,7 @@ class NumericKane(Functions):
         return self._eval("qdot", q, u, params=params)[..., 0] if "qdot" in self.functions else u
 
     def _array(self, x):
+        """x as an array of the module `xp` in `dtype`."""
         return self.xp.asarray(x, dtype=self.dtype)
 
     def _merged(self, independent, dependent, axis: int):
