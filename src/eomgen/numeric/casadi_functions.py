@@ -13,9 +13,12 @@ from ..printers.walker import Generated, writer
 from .equations import NumericEoM
 
 
-class CasadiEoM(NumericEoM):
-    """`NumericEoM` whose functions are CasADi functions of (q, u, ud, p); numbers in, arrays out (one
-    state, or N along axis 0, evaluated one by one)."""
+class CasadiPrinted:
+    """Mixed into a facade: its catalogue's functions printed as CasADi functions of (q, u, ud, p); numbers
+    in, arrays out (one state, or N along axis 0, evaluated one by one), so that the NumPy algorithms run
+    on them."""
+
+    forward = False  # whether casadi["forward_dynamics"] is made besides the catalogue's functions
 
     def _print(self, keys: list[str]) -> None:
         import casadi as ca
@@ -34,8 +37,8 @@ class CasadiEoM(NumericEoM):
 
     @property
     def casadi(self):
-        """The CasADi function of each catalogue function by key (and "forward_dynamics"), of its inputs
-        (and p unless the parameters are bound)."""
+        """The CasADi function of each catalogue function by key, of its inputs (and p unless the
+        parameters are bound)."""
         return _Functions(self)
 
     def call(self, key, q, u=None, ud=None, params=None, out=None) -> np.ndarray:
@@ -53,6 +56,13 @@ class CasadiEoM(NumericEoM):
         return written(result, out, q=q, u=u, ud=ud)
 
 
+class CasadiEoM(CasadiPrinted, NumericEoM):
+    """`NumericEoM` whose functions are CasADi functions (`CasadiPrinted`); `casadi["forward_dynamics"]`
+    besides the catalogue's."""
+
+    forward = True
+
+
 def _name(key: str) -> str:
     """A CasADi name for a key ("J:tip" → "J_tip"; other characters as their code)."""
     return "".join(c if c.isalnum() or c == "_" else "_" if c == ":" else f"x{ord(c):x}" for c in key)
@@ -61,14 +71,14 @@ def _name(key: str) -> str:
 class _Functions:
     """f.casadi[key]: the CasADi function of catalogue function `key` of its inputs (and p unless bound)."""
 
-    def __init__(self, f: CasadiEoM) -> None:
+    def __init__(self, f: CasadiPrinted) -> None:
         self.f = f
 
     def __getitem__(self, key: str):
         import casadi as ca
 
         f = self.f
-        if key == "forward_dynamics":
+        if key == "forward_dynamics" and f.forward:
             return self._forward()
         fn, full = f.catalogue[key], f.generated(key).function
         given = {x: ca.SX.sym(x, n) for x, n in (("q", f.nq), ("u", f._nu), ("ud", f._nu))}

@@ -25,21 +25,20 @@ def codegen(eom, backend: str = "numpy", params: Mapping | None = None, dtype: s
     if dtype != "float64" and backend != "jax":
         raise ModelError(f"dtype: only the JAX backend computes in {dtype!r}; {backend!r} computes in float64")
     kane = isinstance(eom, KaneEquations)
-    if kane and backend in ("jax", "casadi"):
-        raise ModelError(f"the {backend} backend prints EquationsOfMotion (eg.derive); Kane's equations "
-                         "have the NumPy and C backends")
     if backend == "c":
         from .compiled import CompiledEoM
 
         f = CompiledKane(eom) if kane else CompiledEoM(eom)
     elif backend == "jax":
         from .jax_functions import JaxEoM
+        from .jax_kane import JaxKane
 
-        f = JaxEoM(eom, dtype)
+        f = JaxKane(eom, dtype) if kane else JaxEoM(eom, dtype)
     elif backend == "casadi":
         from .casadi_functions import CasadiEoM
+        from .casadi_kane import CasadiKane
 
-        f = CasadiEoM(eom)
+        f = CasadiKane(eom) if kane else CasadiEoM(eom)
     else:
         f = NumericKane(eom) if kane else NumericEoM(eom)
     return f if params is None else bind(f, params)

@@ -24,11 +24,12 @@ from .equations import NumericEoM
 DTYPES = ("float64", "float32")
 
 
-class JaxEoM(NumericEoM):
-    """`NumericEoM` whose functions are JAX functions (one state or N along axis 0; params by name, or
-    bound); `jax[key]` is the function of one state (q, u, ud, p) → array, p the parameter vector."""
+class JaxPrinted:
+    """Mixed into a facade: its catalogue's functions printed as JAX functions (one state or N along axis
+    0; params by name, or bound); `jax[key]` is the function of one state (q, u, ud, p) → array, p the
+    parameter vector."""
 
-    def __init__(self, eom, dtype: str = "float64") -> None:
+    def __init__(self, equations, dtype: str = "float64") -> None:
         import jax
 
         if dtype not in DTYPES:
@@ -36,7 +37,7 @@ class JaxEoM(NumericEoM):
         if dtype == "float64":
             jax.config.update("jax_enable_x64", True)
         self.dtype = dtype
-        super().__init__(eom)
+        super().__init__(equations)
 
     def _print(self, keys: list[str]) -> None:
         traced = writer(self.catalogue, TRACED)
@@ -78,10 +79,11 @@ class JaxEoM(NumericEoM):
         p = jnp.asarray(self.parameter_vector(params, key), self.dtype)
         return f(q, u, ud, p) if q.ndim == 1 else jax.vmap(f, in_axes=(0, 0, 0, None))(q, u, ud, p)
 
-    def _h(self, q, u, tau_a, params):
+    def _actuated(self, h, tau_a):
+        """h + Sᵀ τ_a (τ_a: one value per actuated joint; shapes checked, values not: JAX cannot raise on
+        them)."""
         import jax.numpy as jnp
 
-        h = self.tau(q, u, params) - self.nle(q, u, params)
         if tau_a is None:
             return h
         tau_a = jnp.asarray(tau_a, self.dtype)
@@ -89,6 +91,13 @@ class JaxEoM(NumericEoM):
             raise ModelError(f"tau_a: expected {self.S.shape[0]} values (one per actuated joint), got shape "
                              f"{tau_a.shape}")
         return h + tau_a @ jnp.asarray(self.S, self.dtype)
+
+
+class JaxEoM(JaxPrinted, NumericEoM):
+    """`NumericEoM` whose functions are JAX functions (`JaxPrinted`), its algorithms in jax.numpy."""
+
+    def _h(self, q, u, tau_a, params):
+        return self._actuated(self.tau(q, u, params) - self.nle(q, u, params), tau_a)
 
     def forward_dynamics(self, q, u, tau_a=None, params=None):
         import jax.numpy as jnp
@@ -148,7 +157,7 @@ class JaxEoM(NumericEoM):
 class _ByKey:
     """functions.jax[key]: the JAX function of catalogue function `key`."""
 
-    def __init__(self, functions: JaxEoM) -> None:
+    def __init__(self, functions: JaxPrinted) -> None:
         self.functions = functions
 
     def __getitem__(self, key: str):

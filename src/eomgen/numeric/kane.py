@@ -6,7 +6,9 @@ over states):
     ẇ_dep,0 = −C_dep⁻¹ ċ,  u̇₀ = −Y⁻¹ (K ẇ₀ + ẏ),  M̃ = Pᵀ M P,  f̃ = Pᵀ (h − M u̇₀),  F̃_r = Pᵀ Q,
     q̇ = q̇(q, u),  M̃ ẇ_ind = f̃ + Pᵀ Sᵀ τ_a (`rhs`, τ_a the actuated joints' efforts)
 
-(ċ, ẏ: the "rates", d/dt of the constraints and kinematic equations at ẇ = 0, u̇ = 0)."""
+(ċ, ẏ: the "rates", d/dt of the constraints and kinematic equations at ẇ = 0, u̇ = 0). The algorithms are
+written once for an array module `xp` (numpy here; jax.numpy in `numeric.jax_kane`): no array is written
+into, w and T are stacked from their independent and dependent parts."""
 from __future__ import annotations
 
 import numpy as np
@@ -31,12 +33,16 @@ class NumericKane(Functions):
     coordinates held).
     One state (q of shape (nq,)) or N states (N, nq); parameters by name in `params`."""
 
+    xp = np  # the array module of the algorithms
+    dtype = "float64"
+
     def __init__(self, kane) -> None:
         self.kane = kane
         self.system = kane.system  # the model the functions were generated from
         self.n = len(kane.speeds)  # as many as the joint speeds u
         self.nv = len(kane.independent)
         self._dep, self._ind = kane._indices()
+        self._order = np.argsort(self._ind + self._dep)  # [independent, dependent] → speeds' order
         self._q_dep = [list(kane.system.q).index(x) for x in kane.dependent_coordinates]
         self.S = np.array(kane.system.S.tolist(), dtype=float).reshape(-1, self.n)
         catalogue = kane_catalogue(kane)
@@ -61,32 +67,50 @@ class NumericKane(Functions):
         """q̇(q, u), the coordinate rates (u itself where no function "qdot" was needed)."""
         return self._eval("qdot", q, u, params=params)[..., 0] if "qdot" in self.functions else u
 
+    def _array(self, x):
+        """x as an array of the module `xp` in `dtype`."""
+        return self.xp.asarray(x, dtype=self.dtype)
+
+    def _merged(self, independent, dependent, axis: int):
+        """The rows of the independent and (unless None) the dependent speeds along `axis`, in the speeds'
+        order."""
+        xp = self.xp
+        parts = [independent] if dependent is None else [independent, dependent]
+        return xp.take(xp.concatenate(parts, axis), self._order, axis=axis)
+
+    def _check_flat(self, q, params) -> None:
+        """Refuse a rolling disk lying flat (`contacts.refuse_flat`)."""
+        if "tilt" in self.functions:
+            refuse_flat(self.kane.system.rolling, self._eval("tilt", q, params=params))
+
+    def _actuated(self, h, tau_a):
+        return actuated(h, tau_a, self.S)
+
     def _speeds(self, q, w_ind, params) -> tuple:
         """(w, u, P = ∂u/∂w_ind, C_dep, Y, K) at q and w_ind."""
-        q, w_ind = np.asarray(q, dtype=float), np.asarray(w_ind, dtype=float)
+        xp = self.xp
+        q, w_ind = self._array(q), self._array(w_ind)
         batch, n, p = q.shape[:-1], self.n, self.nv
         if w_ind.shape != batch + (p,):
             raise ModelError(f"w: expected shape {batch + (p,)} (the independent speeds), got {w_ind.shape}")
-        w, T = np.zeros(batch + (n,)), np.zeros(batch + (n, p))
-        w[..., self._ind] = w_ind
-        T[..., self._ind, np.arange(p)] = 1.0
-        C_dep = None
-        if "tilt" in self.functions:
-            refuse_flat(self.kane.system.rolling, self._eval("tilt", q, params=params))
+        self._check_flat(q, params)
+        C_dep = w_dep = T_dep = None
         if self._dep:
             Cc = self._eval("C", q, params=params)
             C_dep, C_ind = Cc[..., self._dep], Cc[..., self._ind]
-            X = np.linalg.solve(C_dep, np.concatenate([C_ind, C_ind @ w_ind[..., None] + Cc[..., n:]], -1))
-            T[..., self._dep, :], w[..., self._dep] = -X[..., :p], -X[..., p]
+            X = xp.linalg.solve(C_dep, xp.concatenate([C_ind, C_ind @ w_ind[..., None] + Cc[..., n:]], -1))
+            T_dep, w_dep = -X[..., :p], -X[..., p]
+        w = self._merged(w_ind, w_dep, -1)
+        T = self._merged(xp.broadcast_to(xp.eye(p, dtype=q.dtype), batch + (p, p)), T_dep, -2)
         Yk = self._eval("Y", q, params=params)
         Y, K = Yk[..., :n], Yk[..., n:2 * n]
-        X = np.linalg.solve(Y, np.concatenate([K @ T, K @ w[..., None] + Yk[..., 2 * n:]], -1))
+        X = xp.linalg.solve(Y, xp.concatenate([K @ T, K @ w[..., None] + Yk[..., 2 * n:]], -1))
         return w, -X[..., p], -X[..., :p], C_dep, Y, K
 
     def mass_matrix(self, q, w, params=None) -> np.ndarray:
         """M̃ = Pᵀ M P."""
         P = self._speeds(q, w, params)[2]
-        return np.swapaxes(P, -1, -2) @ self._eval("M", q, params=params) @ P
+        return self.xp.swapaxes(P, -1, -2) @ self._eval("M", q, params=params) @ P
 
     def forcing(self, q, w, params=None) -> np.ndarray:
         """f̃ = Pᵀ (h − M q̈₀)."""
@@ -107,7 +131,7 @@ class NumericKane(Functions):
     def active_forces(self, q, w, params=None) -> np.ndarray:
         """F̃_r = Pᵀ Q (Q = τ_loads − g, the generalized active forces in u)."""
         _, u, P, *_ = self._speeds(q, w, params)
-        return (np.swapaxes(P, -1, -2) @ self._eval("h", q, u, params=params)[..., 1:])[..., 0]
+        return (self.xp.swapaxes(P, -1, -2) @ self._eval("h", q, u, params=params)[..., 1:])[..., 0]
 
     def holonomic_residual(self, q, params=None) -> np.ndarray:
         """f(q), the residuals of the holonomic constraints (zero on the constraint)."""
@@ -135,15 +159,15 @@ class NumericKane(Functions):
 
     def _dynamics(self, q, w_ind, params, tau_a=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(u, M̃, f̃ + Pᵀ Sᵀ τ_a) at q and w_ind."""
+        xp = self.xp
         w, u, P, C_dep, Y, K = self._speeds(q, w_ind, params)
         rates = self._eval("rates", q, u, self._w(w), params)
-        wd0 = np.zeros(w.shape + (1,))
-        if self._dep:
-            wd0[..., self._dep, :] = -np.linalg.solve(C_dep, rates[..., self.n:, :])
-        ud0 = -np.linalg.solve(Y, K @ wd0 + rates[..., :self.n, :])
+        wd0_dep = -xp.linalg.solve(C_dep, rates[..., self.n:, :]) if self._dep else None
+        wd0 = self._merged(xp.zeros(w.shape[:-1] + (self.nv, 1), w.dtype), wd0_dep, -2)
+        ud0 = -xp.linalg.solve(Y, K @ wd0 + rates[..., :self.n, :])
         M = self._eval("M", q, params=params)
-        Pt = np.swapaxes(P, -1, -2)
-        h = actuated(self._eval("h", q, u, params=params)[..., 0], tau_a, self.S)[..., None]
+        Pt = xp.swapaxes(P, -1, -2)
+        h = self._actuated(self._eval("h", q, u, params=params)[..., 0], tau_a)[..., None]
         return u, Pt @ M @ P, (Pt @ (h - M @ ud0))[..., 0]
 
     @property
@@ -160,26 +184,32 @@ class NumericKane(Functions):
                              "(eg.derive), whose rhs has x = [q, u, i]; eg.linearize takes Kane's with "
                              "motors")
 
+    def _split(self, x) -> list:
+        """[q, w_ind] of x (one state or N)."""
+        return split(x, [self.nq, self.nv], "q, w_ind", batch=True, xp=self.xp, dtype=self.dtype)
+
     def rhs(self, t, x, tau=None, params=None) -> np.ndarray:
         """d/dt [q, w_ind] = [q̇(q, u), M̃⁻¹ (f̃ + Pᵀ Sᵀ τ_a)], τ_a = `tau` (None, one value per actuated
         joint, or a function (t, q, w_ind))."""
         self._without_motors()
-        q, w = split(x, [self.nq, self.nv], "q, w_ind", batch=True)
+        xp = self.xp
+        q, w = self._split(x)
         u, M, f = self._dynamics(q, w, params, efforts(tau, t, q, w))
-        return np.concatenate([self._rates(q, u, params), np.linalg.solve(M, f[..., None])[..., 0]], -1)
+        return xp.concatenate([self._rates(q, u, params), xp.linalg.solve(M, f[..., None])[..., 0]], -1)
 
     def power(self, t, x, tau=None, params=None) -> np.ndarray:
         """Ẇ = uᵀ (Sᵀ τ_a + τ_nc), u the joint speeds: the power of the actuators and of the loads but
         springs (`numeric.state_equations`)."""
         self._without_motors()
-        q, w = split(x, [self.nq, self.nv], "q, w_ind", batch=True)
+        q, w = self._split(x)
         u = self.joint_speeds(q, w, params)
-        return work_rate(u, self._eval("tau_nc", q, u, params=params)[..., 0], efforts(tau, t, q, w), self.S)
+        tau_nc = self._eval("tau_nc", q, u, params=params)[..., 0]
+        return work_rate(u, self._actuated(tau_nc, efforts(tau, t, q, w)), self.xp)
 
     def energy(self, x, params=None) -> np.ndarray:
         """E = T + U at the joint speeds u of (q, w_ind)."""
         self._without_motors()
-        q, w = split(x, [self.nq, self.nv], "q, w_ind", batch=True)
+        q, w = self._split(x)
         return self._eval("energy", q, self.joint_speeds(q, w, params), params=params)[..., 0].sum(-1)
 
 

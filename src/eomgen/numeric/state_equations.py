@@ -30,20 +30,21 @@ def efforts(tau, t, q, u):
     return tau(t, q, u) if callable(tau) else tau
 
 
-def work_rate(u, tau_nc, tau_a, S) -> np.ndarray:
-    """uᵀ (Sᵀ τ_a + τ_nc)."""
-    return np.einsum("...i,...i->...", u, actuated(tau_nc, tau_a, S))
+def work_rate(u, tau, xp=np) -> np.ndarray:
+    """uᵀ τ, per state (arrays of module `xp`)."""
+    return xp.einsum("...i,...i->...", u, tau)
 
 
-def split(x, sizes: list[int], names: str, batch: bool) -> list[np.ndarray]:
-    """x = [q, u, ...] cut into parts of `sizes` (x of shape (n,), or (N, n) if `batch`)."""
-    x, n = np.asarray(x, dtype=float), sum(sizes)
+def split(x, sizes: list[int], names: str, batch: bool, xp=np, dtype=float) -> list[np.ndarray]:
+    """x = [q, u, ...] cut into parts of `sizes` (x of shape (n,), or (N, n) if `batch`; arrays of module
+    `xp`)."""
+    x, n = xp.asarray(x, dtype=dtype), sum(sizes)
     if x.shape[-1:] != (n,) or x.ndim > 1 + batch:
         raise ModelError(
             f"x: expected [{names}] of shape ({n},){f' or (N, {n})' if batch else ''}, got shape "
             f"{x.shape}{'' if batch else ' (one state per call)'}"
         )
-    return np.split(x, np.cumsum(sizes)[:-1], axis=-1)
+    return xp.split(x, np.cumsum(sizes)[:-1].tolist(), axis=-1)
 
 
 def size(f) -> int:
@@ -86,7 +87,7 @@ def power(f, t, x, tau=None, params=None) -> np.ndarray:
     """Ẇ = uᵀ (Sᵀ τ_a + τ_nc) (+ Σ i (U − R i − k N q̇) with motors): the power of the actuators, of the
     loads but springs and bending (and of the motors' sources less their resistance)."""
     q, u, i, params = state(f, x, params)
-    P = work_rate(u, f.call("tau_nc", q, u, params=params)[..., 0], efforts(tau, t, q, u), f.S)
+    P = work_rate(u, actuated(f.call("tau_nc", q, u, params=params)[..., 0], efforts(tau, t, q, u), f.S))
     if i.size:
         circuit = f.call("motor", q, u, params=params)
         P = P + i @ (circuit[:, 0] - circuit[:, 1] * i)
