@@ -18,7 +18,15 @@ Each backend's outputs at the first CHECKED states (one-state calls and batches)
 max |difference| / max(1, max |NumPy|), printed; more than 1e-9 is reported and fails the run. Per-call
 times are the best of 5 repeats of enough calls for 0.05 s, batch times the best of --repeat.
 
-Run: python benchmarks/targets.py [names ...] [--keys M nle] [--states 100000] [--out ...]"""
+XLA's CPU compile of the large scalar graphs is slow because its fusion pass copies each shared
+intermediate into every fusion that reads it (talos's M: 4216 operations printed, 5209 sin/cos and
+27452 multiplications after XLA's optimisation; the compile and a one-state call grow with the copies).
+--xla-no-fusion jits with that pass off (`compiler_options={"xla_disable_hlo_passes": "fusion"}`): each
+operation once, a much shorter compile and faster batches, slower one-state calls (one kernel per
+operation).
+
+Run: python benchmarks/targets.py [names ...] [--keys M nle] [--states 100000] [--xla-no-fusion]
+     [--out ...]"""
 
 from __future__ import annotations
 
@@ -41,6 +49,7 @@ import results_io  # noqa: E402
 from batch import best, machine  # noqa: E402
 
 CHECKED, TOLERANCE = 5, 1e-9
+NO_FUSION = {"xla_disable_hlo_passes": "fusion"}  # --xla-no-fusion
 BACKENDS = ("numpy", "c", "jax", "casadi")
 
 
@@ -90,12 +99,12 @@ def construction(eom, keys: list[str], states) -> tuple[dict, dict]:
 class Jax:
     """The JAX side: jit of one state and jit(vmap) of N, on one device, with their compile times."""
 
-    def __init__(self, f, key: str, device) -> None:
+    def __init__(self, f, key: str, device, options: dict) -> None:
         import jax
 
         self.jax, self.device = jax, device
-        self.one = jax.jit(f.jax[key])
-        self.many = jax.jit(jax.vmap(f.jax[key], in_axes=(0, 0, 0, None)))
+        self.one = jax.jit(f.jax[key], compiler_options=options)
+        self.many = jax.jit(jax.vmap(f.jax[key], in_axes=(0, 0, 0, None)), compiler_options=options)
         self.p = jax.device_put(np.asarray(f.parameter_vector(None, key), float), device)
 
     def put(self, *xs):
@@ -105,7 +114,7 @@ class Jax:
         return fn(q, u, ud, self.p).block_until_ready()
 
 
-def bench_key(f: dict, key: str, states, batch: int, repeat: int, cpu, gpu) -> dict:
+def bench_key(f: dict, key: str, states, batch: int, repeat: int, cpu, gpu, options: dict) -> dict:
     """Per-call and batch times of `key` on every backend, the JAX compile times, the agreement."""
     q, u, ud = states
     Q, U, UD = (x[:batch] for x in states)
@@ -117,18 +126,21 @@ def bench_key(f: dict, key: str, states, batch: int, repeat: int, cpu, gpu) -> d
         row[f"{name}_call_us"] = per_call_us(lambda: fn.call(key, q[0], u[0], ud[0]))
         row[f"{name}_batch_s"] = best(lambda: fn.call(key, Q, U, UD), repeat)
         row[f"{name}_error"] = agreement(fn.call(key, Q[:CHECKED], U[:CHECKED], UD[:CHECKED]), numpy_checked)
-    row.update(bench_jax(f["jax"], key, states, batch, repeat, cpu, numpy_one, numpy_checked, "jax"))
-    if gpu is not None:
-        row.update(bench_jax(f["jax"], key, states, batch, repeat, gpu, numpy_one, numpy_checked, "gpu"))
+    for label, device in (("jax", cpu), ("gpu", gpu)):
+        if device is not None:
+            row.update(bench_jax(f["jax"], key, states, batch, repeat, device, (numpy_one, numpy_checked),
+                                 label, options))
     row.update(bench_casadi(f["casadi"], key, states, batch, repeat, numpy_one, numpy_checked))
     row["jax_over_c"] = row["jax_batch_s"] / row["c_batch_s"]
     return row
 
 
-def bench_jax(f, key: str, states, batch: int, repeat: int, device, numpy_one, numpy_checked,
-              label: str) -> dict:
-    """JAX on `device`: compile of jit and of jit(vmap) (first call), per call, batch, agreement."""
-    j = Jax(f, key, device)
+def bench_jax(f, key: str, states, batch: int, repeat: int, device, reference: tuple, label: str,
+              options: dict) -> dict:
+    """JAX on `device`: compile of jit and of jit(vmap) (first call), per call, batch, agreement with
+    `reference` (NumPy's outputs at one state and at the first CHECKED)."""
+    numpy_one, numpy_checked = reference
+    j = Jax(f, key, device, options)
     one, many = j.put(*(x[0] for x in states)), j.put(*(x[:batch] for x in states))
     row = {f"{label}_jit_s": seconds(lambda: j.call(j.one, *one)),
            f"{label}_vmap_jit_s": seconds(lambda: j.call(j.many, *many))}
@@ -179,7 +191,7 @@ def bench(name: str, keys: list[str], args, cpu, gpu) -> tuple[dict, list[dict]]
     for key in keys:
         rows_, cols = f["numpy"].generated(key).shape
         batch = min(args.states, int(args.megabytes * 2**20 / (8 * rows_ * cols)))
-        rows.append({"robot": name, **bench_key(f, key, states, batch, args.repeat, cpu, gpu)})
+        rows.append({"robot": name, **bench_key(f, key, states, batch, args.repeat, cpu, gpu, args.xla)})
     robot["jax_jit_s"] = sum(r["jax_jit_s"] for r in rows)
     robot["jax_vmap_jit_s"] = sum(r["jax_vmap_jit_s"] for r in rows)
     robot["jax_construction_s"] = robot["jax_codegen_s"] + robot["jax_jit_s"]
@@ -188,8 +200,8 @@ def bench(name: str, keys: list[str], args, cpu, gpu) -> tuple[dict, list[dict]]
 
 
 def show_robot(r: dict) -> None:
-    print(f"\n{r['robot']} (nq {r['nq']}, nv {r['nv']}, {r['method']}): derive {r['derive_s']:.1f} s; codegen "
-          f"NumPy {r['numpy_codegen_s']:.2f} s, C {r['c_codegen_s']:.1f} s (with the compile), JAX "
+    print(f"\n{r['robot']} (nq {r['nq']}, nv {r['nv']}, {r['method']}): derive {r['derive_s']:.1f} s; "
+          f"codegen NumPy {r['numpy_codegen_s']:.2f} s, C {r['c_codegen_s']:.1f} s (with the compile), JAX "
           f"{r['jax_codegen_s']:.2f} s + first jit {r['jax_jit_s']:.1f} s = {r['jax_construction_s']:.1f} s "
           f"(+ jit of the vmaps {r['jax_vmap_jit_s']:.1f} s), CasADi {r['casadi_construction_s']:.2f} s")
 
@@ -234,18 +246,21 @@ def main() -> None:
     ap.add_argument("--states", type=int, default=100_000)
     ap.add_argument("--megabytes", type=float, default=256.0, help="largest batch output (fewer states)")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--xla-no-fusion", action="store_true",
+                    help="jit with XLA's fusion pass off (compiler_options; see the module's docstring)")
     ap.add_argument("--out", default=results_io.default_path("targets"))
     args = ap.parse_args()
+    args.xla = NO_FUSION if args.xla_no_fusion else {}
     eg.quiet()
     import casadi
     import jax
 
     cpu, gpu, why = devices()
     meta = {**machine(), "jax": jax.__version__, "casadi": casadi.__version__, "states": args.states,
-            "gpu": str(gpu) if gpu else why}
+            "gpu": str(gpu) if gpu else why, "xla_compiler_options": args.xla}
     threads = subprocess.run(["nproc"], capture_output=True, text=True).stdout.strip()
     print(f"CPU: {meta['cpu']} ({threads} cores); {meta['compiler']}; jax {jax.__version__} (x64), casadi "
-          f"{casadi.__version__}; load {meta['load_start']}")
+          f"{casadi.__version__}; XLA compiler options {args.xla}; load {meta['load_start']}")
     if gpu is None:
         print(f"GPU row skipped: {why}")
     robots, rows = [], []
