@@ -34,7 +34,8 @@ def test_every_function_equals_numpy(constraints):
         reference = f.call(fn.key, q, u, ud, PARAMS)
         close(fj.call(fn.key, q, u, ud, PARAMS), reference, 1e-12, f"{fn.key}: JAX")
         close(fc.call(fn.key, q, u, ud, PARAMS), reference, 1e-12, f"{fn.key}: CasADi")
-        close(fj.call(fn.key, Q, U, UD, PARAMS), f.call(fn.key, Q, U, UD, PARAMS), 1e-12, f"{fn.key}: vmap")
+        if fn.key in ("M", "tau", "T", "J_c", "ID_derivatives", "W:a", "X:tip"):  # each a jit(vmap) compile
+            close(fj.call(fn.key, Q, U, UD, PARAMS), f.call(fn.key, Q, U, UD, PARAMS), 1e-12, f"{fn.key}: vmap")
         if fn.public:
             expected = public_call(f, fn, q, u, ud, PARAMS)
             close(public_call(fj, fn, q, u, ud, PARAMS), expected, 1e-12, f"{fn.name}: JAX")

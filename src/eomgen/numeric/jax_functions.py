@@ -22,6 +22,8 @@ from .constrained import closure_index, row_sizes
 from .equations import NumericEoM
 
 DTYPES = ("float64", "float32")
+FUSION_LIMIT = 1000  # operations: larger functions are compiled without XLA's fusion pass (`_jitted`)
+NO_FUSION = {"xla_disable_hlo_passes": "fusion"}
 
 
 class JaxPrinted:
@@ -74,10 +76,28 @@ class JaxPrinted:
 
         if out is not None:
             raise ModelError("out: the JAX backend returns new arrays (JAX arrays cannot be written into)")
-        f = self.generated(key).function
         q, u, ud = self._state(q, u, ud)
         p = jnp.asarray(self.parameter_vector(params, key), self.dtype)
-        return f(q, u, ud, p) if q.ndim == 1 else jax.vmap(f, in_axes=(0, 0, 0, None))(q, u, ud, p)
+        if q.ndim == 1:  # one state: as traced by the caller's jit (or op by op)
+            return self.generated(key).function(q, u, ud, p)
+        traced = any(isinstance(x, jax.core.Tracer) for x in (q, u, ud, p))  # inside the caller's jit
+        return self._batch(key, traced)(q, u, ud, p)
+
+    def _batch(self, key: str, traced: bool):
+        """`key`'s function vmapped over a batch, jitted once unless the caller's jit traces it: without
+        XLA's fusion pass for a function of more than `FUSION_LIMIT` operations, which copies each shared
+        intermediate into every fusion that reads it (talos's M: 47 s to compile with it, 10 s without;
+        benchmarks/targets.py). Op by op, a batch of 1000 ur5 states took 80 ms; jitted, 1 ms."""
+        import jax
+
+        f = self.generated(key)
+        body = jax.vmap(f.function, in_axes=(0, 0, 0, None))
+        if traced:
+            return body
+        cache = vars(self).setdefault("_jit", {})
+        if key not in cache:
+            cache[key] = jax.jit(body, compiler_options=NO_FUSION if f.ops > FUSION_LIMIT else None)
+        return cache[key]
 
     def _actuated(self, h, tau_a):
         """h + Sᵀ τ_a (τ_a: one value per actuated joint; shapes checked, values not: JAX cannot raise on
