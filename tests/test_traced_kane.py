@@ -116,7 +116,7 @@ def test_a_flat_disk_is_refused_by_both_targets():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", ["panda", "talos"])
+@pytest.mark.parametrize("name", ["ur5", "panda", "solo12", "talos"])
 def test_robots_every_catalogue_entry(name):
     """Every function and every family member (all frames) of JAX and CasADi equals NumPy's; prints the
     construction times (codegen, then every entry printed)."""
