@@ -15,7 +15,8 @@ MOVED = {f"eomgen.codegen.{old}": f"eomgen.{new}" for old, new in {
     "derivative_functions": "numeric.forward", "kinematic_functions": "numeric.evaluations",
     "extension": "printers.build.extension", "compile": "printers.build.compile", "vector": "printers.vector",
     "contacts": "numeric.contacts", "lines": "numeric.lines", "singular": "numeric.singular",
-    "module": "printers.module", "runtime": "printers.runtime", "c_derivatives": "printers.forward_c"}.items()}
+    "module": "printers.module", "runtime": "printers.runtime",
+    "c_derivatives": "printers.forward_c"}.items()}
 MOVED.update({"eomgen.assembly": "eomgen.numeric.assembly", "eomgen.reduction": "eomgen.numeric.reduction"})
 
 

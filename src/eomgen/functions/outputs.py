@@ -88,8 +88,8 @@ def dynamics(eom: EquationsOfMotion, missing: dict) -> list[Function]:
     if rows:
         missing["FD_derivatives"] = (f"forward_dynamics_derivatives: the system has constraint rows "
                                      f"{rows[:6]}, whose forces these derivatives of M⁻¹ (τ − b − g) leave "
-                                     "out; linearize the constrained dynamics with eg.linearize(eom, op_point, "
-                                     "independent=[...])")
+                                     "out; linearize the constrained dynamics with "
+                                     "eg.linearize(eom, op_point, independent=[...])")
         return found
     if eom.load_names:
         found.append(Function("FD_jacobian", "_forward_dynamics_jacobian", "[∂/∂q | ∂/∂u] (NV x 2 NV) of "
@@ -118,9 +118,9 @@ def blocks(eom: EquationsOfMotion) -> list[Function]:
              Function("centres", "_centres", "the bodies' centres of mass (world)", "q",
                       (3, len(system.bodies)), lambda: centres(eom), public=False)]
     if system.motors:
+        circuits = lambda: sp.Matrix([m.circuit(eom.u) for m in system.motors])  # noqa: E731
         found.append(Function("motor", "_motor", "per DC motor [U − k N q̇, R, L]", "q, u",
-                              (len(system.motors), 3), lambda: sp.Matrix([m.circuit(eom.u) for m in system.motors]),
-                              public=False))
+                              (len(system.motors), 3), circuits, public=False))
     if disks:
         found.append(Function("tilt", "_tilt", "‖e × n‖ of every rolling disk", "q", (disks, 1),
                               lambda: tilts(eom.kinematics), "vector", public=False))
@@ -165,8 +165,8 @@ def families(eom: EquationsOfMotion, missing: dict) -> list[Family]:
 
     return found + [
         Family("W", "joint", "joint_wrench", "(F, T) the parent exerts on the body of joint {item} at the "
-               "joint origin, world axes", "q, u, ud", (6, 1), wrenches.__getitem__, tuple(wrenches), "wrench",
-               joint),
+               "joint origin, world axes", "q, u, ud", (6, 1), wrenches.__getitem__, tuple(wrenches),
+               "wrench", joint),
         Family("R", "joint", "joint_reaction", "the reaction force and torque of joint {item} at its "
                "origin, world axes", "q, u, ud", (6, 1), reactions.__getitem__, tuple(reactions), "wrench",
                joint)]

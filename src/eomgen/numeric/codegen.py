@@ -23,7 +23,8 @@ def codegen(eom, backend: str = "numpy", params: Mapping | None = None, dtype: s
     if backend not in BACKENDS:
         raise ModelError(f"unknown backend {backend!r}; available: {list(BACKENDS)}")
     if dtype != "float64" and backend != "jax":
-        raise ModelError(f"dtype: only the JAX backend computes in {dtype!r}; {backend!r} computes in float64")
+        raise ModelError(f"dtype: only the JAX backend computes in {dtype!r}; {backend!r} computes in "
+                         "float64")
     kane = isinstance(eom, KaneEquations)
     if backend == "c":
         from .compiled import CompiledEoM

@@ -75,5 +75,5 @@ def refuse_branches(sub: Subexpressions, expr: sp.Basic, key: str, target: str) 
     """A ModelError naming `key` when its expression or an intermediate it reads holds a Piecewise."""
     exprs = list(expr) if isinstance(expr, sp.MatrixBase) else [sp.sympify(expr)]
     if any(e.has(sp.Piecewise) for e in (*exprs, *(sub.definitions[s] for s in sub.dependencies(exprs)))):
-        raise ModelError(f"{target}: {key} holds a Piecewise, whose untaken branch would make its derivatives "
-                         "NaN in this target; evaluate it with the NumPy or C backend")
+        raise ModelError(f"{target}: {key} holds a Piecewise, whose untaken branch would make its "
+                         "derivatives NaN in this target; evaluate it with the NumPy or C backend")
