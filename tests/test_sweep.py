@@ -82,13 +82,18 @@ class Killing:
     def __call__(self, k: int, n: int):
         marker = Path(self.folder, f"chunk-{k}-{os.getpid()}-{len(os.listdir(self.folder))}")
         marker.write_text(f"{n}")
-        if k == self.victim:
-            try:
-                os.close(os.open(Path(self.folder, "killed"), os.O_CREAT | os.O_EXCL))
-                os.kill(os.getpid(), signal.SIGKILL)
-            except FileExistsError:
-                pass
+        if k == self.victim and first_time(Path(self.folder, "killed")):
+            os.kill(os.getpid(), signal.SIGKILL)
         return self.make(k, n)
+
+
+def first_time(path: Path) -> bool:
+    """Whether this call made the file `path` (O_EXCL: one process only, however many ask at once)."""
+    try:
+        os.close(os.open(path, os.O_CREAT | os.O_EXCL))
+    except FileExistsError:
+        return False
+    return True
 
 
 def test_a_worker_killed_mid_sweep_is_replaced_and_no_chunk_is_lost_or_repeated(ur5, cluster, tmp_path):

@@ -116,6 +116,22 @@ class Catalogue:
             raise ModelError(self.missing.get(prefix, f"no family {prefix!r} in the catalogue"))
         return self.families[prefix]
 
+    def frames(self) -> list[str]:
+        """The prefixes of the families per frame (J, J̇ u, [R | p])."""
+        return [prefix for prefix, family in self.families.items() if family.kind == "frame"]
+
+    def parts(self) -> set[str]:
+        """The keys the composites are computed from."""
+        return {key for fn in self if fn.composite for key in fn.parts}
+
+    def printable(self, key: str) -> Function:
+        """Function `key`, refused when it is a composite (which the numeric layer computes from its
+        parts)."""
+        fn = self[key]
+        if fn.composite:
+            raise ModelError(f"{key} is computed from other functions by the numeric layer; call {fn.name}")
+        return fn
+
     def public(self) -> list[Function]:
         """The functions users call in every target."""
         return [f for f in self if f.public]

@@ -18,6 +18,11 @@ from .expressions import (centres, closure_frames, forward_parts, lengths, line_
                           placement)
 
 
+# the derivatives of the dynamics: printed together in C (a composite after its parts), left out by
+# write_c(derivatives=False)
+DERIVATIVES = ("ID_derivatives", "FD_jacobian", "FD_parts", "FD_derivatives")
+
+
 def forward_dynamics(eom: EquationsOfMotion) -> bool:
     """Whether the forward dynamics (and its derivatives) are there: M, b, g derived."""
     return {"M", "b", "g"} <= set(eom.compact)

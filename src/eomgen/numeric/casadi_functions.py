@@ -27,9 +27,7 @@ class CasadiPrinted:
         symbols = [ca.SX.sym(x, n) for x, n in (("q", self.nq), ("u", self._nu), ("ud", self._nu),
                                                  ("p", len(self.params)))]
         for key in keys:
-            fn = self.catalogue[key]
-            if fn.composite:
-                raise ModelError(f"{key} is computed from other functions; call {fn.name}")
+            fn = self.catalogue.printable(key)
             source, shape, ops = traced.function("f", fn)
             expr = casadi_expression(source, shape, key, *symbols)
             function = ca.Function(_name(key), symbols, [expr], ["q", "u", "ud", "p"], [_name(key)])

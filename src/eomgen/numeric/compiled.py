@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ModelError
+from ..functions import DERIVATIVES
 from ..printers.build.extension import compiler, python_headers
 from ..printers.c_extension import ExtensionPrinter
 from .equations import NumericEoM
@@ -14,7 +15,6 @@ from .facade import written
 from .forward import euler, forward_checks, joint_efforts
 from .lines import check_ends
 
-DERIVATIVES = ("ID_derivatives", "FD_jacobian", "FD_parts", "FD_derivatives")  # printed together
 
 
 class Compiled:
@@ -25,7 +25,7 @@ class Compiled:
 
     def _print(self, keys: list[str]) -> None:
         if not hasattr(self, "_extension"):
-            compiler(), python_headers()  # a clear error before any work
+            compiler(), python_headers()  # a clear error before any work (the first print: construction)
             self._extension = ExtensionPrinter(self.catalogue, self.batches)
         if set(keys) & set(DERIVATIVES):  # the derivatives' group last: a composite after its parts
             keys = [k for k in keys if k not in DERIVATIVES] + [k for k in DERIVATIVES
@@ -45,10 +45,6 @@ class Compiled:
 
 class CompiledEoM(Compiled, NumericEoM):
     """`NumericEoM` with every function compiled from C (per call and batched)."""
-
-    def __init__(self, eom) -> None:
-        compiler(), python_headers()  # a clear error before any work
-        super().__init__(eom)
 
     # the common entry points call the compiled function directly (vector outputs as vectors)
     def M(self, q, params=None, out=None) -> np.ndarray:

@@ -67,10 +67,7 @@ class Functions:
     def _print(self, keys: list[str]) -> None:
         """Print and compile the functions `keys` (Python: one function each)."""
         for key in keys:
-            if self.catalogue[key].composite:
-                raise ModelError(f"{key} is computed from other functions by the numeric layer; call "
-                                 f"{self.catalogue[key].name}")
-            source, shape, ops = self._writer.function("f", self.catalogue[key])
+            source, shape, ops = self._writer.function("f", self.catalogue.printable(key))
             self.functions[key] = Generated(source, shape, ops, compile_function(source, key))
 
     def generated(self, key: str) -> Generated:

@@ -44,9 +44,7 @@ class JaxPrinted:
     def _print(self, keys: list[str]) -> None:
         traced = writer(self.catalogue, TRACED)
         for key in keys:
-            fn = self.catalogue[key]
-            if fn.composite:
-                raise ModelError(f"{key} is computed from other functions; call {fn.name}")
+            fn = self.catalogue.printable(key)
             expr = fn.expression()
             refuse_branches(self.catalogue.sub, expr, key, "the JAX backend")
             source, shape, ops = traced.source("f", expr, fn.symmetric)

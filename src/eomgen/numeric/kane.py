@@ -16,7 +16,6 @@ import numpy as np
 from ..arguments import count, finite_array, positive
 from ..errors import ModelError
 from ..functions import kane_catalogue
-from ..printers.build.extension import compiler, python_headers
 from ..state import unit_quaternions
 from .compiled import Compiled
 from .contacts import refuse_flat
@@ -218,6 +217,3 @@ class CompiledKane(Compiled, NumericKane):
 
     batches = False
 
-    def __init__(self, kane) -> None:
-        compiler(), python_headers()  # a clear error before any work
-        super().__init__(kane)

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from ..version import __version__
 from ..eom import EquationsOfMotion
-from ..functions import Catalogue, Family, Function, assumptions, catalogue, expect_equations
+from ..functions import QUANTITIES, Catalogue, Family, Function, assumptions, catalogue, expect_equations
 from ..functions import forward_dynamics
 from .runtime import DERIVATIVES, PARAMETERS, RUNTIME
 from .syntax import PYTHON
@@ -98,16 +98,16 @@ def _forward_dynamics_derivatives(q, u, efforts, params):
     return _forward_derivatives(M(q, params), h, lambda ud: {jacobian}(q, u, ud, params), NV)
 '''
 
-FRAMES = ("J", "Jdot_u", "X")  # the frames' families, printed per frame with their own tables
 _TABLES = {"J": "_JACOBIANS", "Jdot_u": "_JACOBIANS_DOT_U", "X": "_PLACEMENTS"}
 ROWS = {"J_c": "CONSTRAINT_ROWS", "Jdot_c_u": "CONSTRAINT_ROWS", "closure": "CLOSURE_ROWS"}  # rows' names
 _RETURNS = {"matrix": "", "vector": "[..., 0]", "number": "[..., 0, 0]", "columns": ""}
 
 
-def printed(fn: Function) -> bool:
-    """Whether the module prints `fn`: every public function, and the Jacobian of the forward dynamics'
-    derivatives with loads (its runtime calls it)."""
-    return (fn.public or fn.key == "FD_jacobian") and not fn.composite
+def printed(cat: Catalogue, fn: Function) -> bool:
+    """Whether the module prints `fn`: every public function, and D, the part of the forward dynamics'
+    derivatives its runtime calls (it forms [M | h] from M, tau and nle)."""
+    runtime = {cat["FD_derivatives"].parts[1]} if "FD_derivatives" in cat else set()
+    return (fn.public or fn.key in runtime) and not fn.composite
 
 
 def _api(fn: Function, used: frozenset) -> str:
@@ -152,14 +152,14 @@ def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title
         frames = list(cat.families["J"].items)
     frames = list(frames)
     title = re.sub(r"[^A-Za-z0-9_.-]", "_", title)  # it goes into the docstring
-    keys = [fn for fn in cat if fn.key in ("M", "b", "g", "nle", "tau", "T", "U")]
-    others = [fn for fn in cat if printed(fn) and fn not in keys]
-    families = [f for prefix, f in cat.families.items() if prefix not in FRAMES and f.items]
+    keys = [fn for fn in cat if fn.key in QUANTITIES]
+    others = [fn for fn in cat if printed(cat, fn) and fn not in keys]
+    families = [f for prefix, f in cat.families.items() if prefix not in cat.frames() and f.items]
     p = _Printed(cat)
     for fn in keys:
         p.add(fn.key, fn)
     for k, frame in enumerate(frames):
-        for prefix in FRAMES:
+        for prefix in cat.frames():
             p.add(f"{prefix}{k}", cat[f"{prefix}:{frame}"])
     for fn in others:
         p.add(fn.key, fn)
@@ -191,8 +191,8 @@ def module_source(eom: EquationsOfMotion, frames: list[str] | None = None, title
              _HELPERS, RUNTIME, PARAMETERS]
     parts += [p.sources[fn.key] for fn in keys + others]
     for k in range(len(frames)):
-        parts += [p.sources[f"{prefix}{k}"] for prefix in FRAMES]
-    for prefix in FRAMES:
+        parts += [p.sources[f"{prefix}{k}"] for prefix in cat.frames()]
+    for prefix in cat.frames():
         pairs = [f"(_{prefix}{k}, {tuple(sorted(p.used[f'{prefix}{k}']))})" for k in range(len(frames))]
         parts.append(f"{_TABLES[prefix]} = [{', '.join(pairs)}]")
     parts += [_api(fn, p.used[fn.key]) for fn in keys + others]

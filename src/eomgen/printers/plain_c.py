@@ -10,14 +10,12 @@ from pathlib import Path
 from ..version import __version__
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
-from ..functions import Function, catalogue, expect_equations
+from ..functions import DERIVATIVES, QUANTITIES, Catalogue, Function, catalogue, expect_equations
 from ..progress import progress
 from .forward_c import forward_derivatives_source
 from .syntax import C, VECTOR_TRIG
 from .walker import listed, reads, writer
 
-DERIVATIVES = ("ID_derivatives", "FD_jacobian", "FD_parts", "FD_derivatives")  # derivatives=False: left out
-FRAMES = ("J", "Jdot_u", "X")  # printed per frame, <name>_<prefix>_<k>
 
 
 def comment(text: str) -> str:
@@ -26,11 +24,10 @@ def comment(text: str) -> str:
     return text.replace("*/", "*?").replace("/*", "/?")
 
 
-def printed(fn: Function, derivatives: bool) -> bool:
+def printed(cat: Catalogue, fn: Function, derivatives: bool) -> bool:
     """Whether write_c prints `fn`: every public function and the parts of a composite (those of the
     derivatives only with `derivatives`)."""
-    parts = fn.public or fn.key in ("FD_jacobian", "FD_parts")
-    return parts and (derivatives or fn.key not in DERIVATIVES)
+    return (fn.public or fn.key in cat.parts()) and (derivatives or fn.key not in DERIVATIVES)
 
 
 def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
@@ -52,10 +49,10 @@ def write_c(eom: EquationsOfMotion, directory, name: str = "eom",
     directory.mkdir(parents=True, exist_ok=True)
     cat = catalogue(eom)
     frames = list(eom.frames or eom.system.frames) if frames is None else list(frames)
-    parts = [fn for fn in cat if fn.key in ("M", "b", "g", "nle", "tau", "T", "U")]
-    parts += [cat[f"{prefix}:{frame}"] for frame in frames for prefix in FRAMES]
-    parts += [fn for fn in cat if printed(fn, derivatives) and fn not in parts]
-    parts += [family.of(item) for prefix, family in cat.families.items() if prefix not in FRAMES
+    parts = [fn for fn in cat if fn.key in QUANTITIES]
+    parts += [cat[f"{prefix}:{frame}"] for frame in frames for prefix in cat.frames()]
+    parts += [fn for fn in cat if printed(cat, fn, derivatives) and fn not in parts]
+    parts += [family.of(item) for prefix, family in cat.families.items() if prefix not in cat.frames()
               for item in family.items]
     c = writer(cat, C)
     body, decls, sources = ["#include <math.h>", VECTOR_TRIG, f'#include "{name}.h"', ""], [], {}
@@ -84,7 +81,7 @@ def c_name(cat, fn: Function, frames: list[str]) -> str:
     if fn.item is None:
         return fn.key
     prefix = fn.key.split(":")[0]
-    items = frames if prefix in FRAMES else list(cat.families[prefix].items)
+    items = frames if prefix in cat.frames() else list(cat.families[prefix].items)
     return f"{prefix}_{items.index(fn.item)}"
 
 
