@@ -29,17 +29,9 @@ import eomgen as eg
 
 sys.path.insert(0, str(Path(__file__).parent))
 import results_io  # noqa: E402
+from batch import best  # noqa: E402
 
 CHECKED, KEYS = 5, ("M", "nle")
-
-
-def best(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
 
 
 def agreement(ours, theirs) -> float:
