@@ -2,12 +2,14 @@
 beside the direct batched C call on one core.
 
 The states are made on the workers, chunk k by `RandomChunks(system, seed)` (eg.random_states seeded
-by (seed, k)), so the client holds none of them. N × 36 doubles do not fit in memory for N = 10⁸
-(29 GB), so the result is reduced on the workers: the sum of M over the states (a checksum; one
-reduction, which dask fuses into each chunk's task), and a few states spot-checked (untimed) against the
-direct batched call on their chunk, made again on the client.
-Throughput per core, against the direct call on one core with and without making the states (a sweep
-makes them), by two clocks: wall (N / (wall time × workers): right on a machine of its own) and CPU
+by (seed, k); only q, into arrays each worker reuses), so the client holds none of them. N × 36 doubles
+do not fit in memory for N = 10⁸ (29 GB), so the result is reduced on the workers: each chunk's sum of M
+(`reduce=np.add`: slice by slice as M is evaluated, never stored), summed over the chunks (a checksum), and a few
+states spot-checked (untimed) by a sweep without reduction against the direct batched call on their
+chunk, made again on the client.
+Throughput per core, against the direct call on one core alone (a new output array, as a user calls it;
+and into a reused one, out=) and with making the states as the sweep does (q alone, into reused arrays),
+by two clocks: wall (N / (wall time × workers): right on a machine of its own) and CPU
 (the workers' CPU seconds / N against the direct call's: what counts on a machine shared with other
 work, where wall time measures the others too). Prints a table and writes JSON.
 
@@ -56,8 +58,10 @@ def main() -> None:
     q = make(0, args.chunk)[0]
     f.M(q[:10])
     clocks = {"wall": time.perf_counter, "cpu": time.process_time}
+    buffers, out = (np.empty_like(q),), np.empty((args.chunk, 6, 6))
     call = {c: best(lambda: f.call("M", q), clock) / args.chunk for c, clock in clocks.items()}
-    made = {c: best(lambda: f.call("M", make(0, args.chunk)[0]), clock) / args.chunk
+    into = {c: best(lambda: f.call("M", q, out=out), clock) / args.chunk for c, clock in clocks.items()}
+    made = {c: best(lambda: f.call("M", make(0, args.chunk, buffers)[0], out=out), clock) / args.chunk
             for c, clock in clocks.items()}
 
     with LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
@@ -65,12 +69,13 @@ def main() -> None:
         t = time.perf_counter()
         eg.sweep(f, "M", make, n=args.workers * 1000, chunk=1000, cluster=client).sum().compute()
         warm = time.perf_counter() - t  # each worker imports eomgen and rebuilds the functions
-        x = eg.sweep(f, "M", make, n=args.states, chunk=args.chunk, cluster=client)
+        sums = eg.sweep(f, "M", make, n=args.states, chunk=args.chunk, cluster=client, reduce=np.add)
         spots = np.sort(np.random.default_rng(1).choice(args.states, args.spots, replace=False))
         t, cpu = time.perf_counter(), client.run(time.process_time)
-        total = x.sum(axis=0).compute()  # one reduction: fused with each chunk's task, no chunk stored
+        total = sums.sum(axis=0).compute()  # each chunk reduced in its task, no chunk stored
         wall, after = time.perf_counter() - t, client.run(time.process_time)
         cpu = sum(after[w] - cpu[w] for w in cpu)  # the workers' CPU seconds: what the sweep used
+        x = eg.sweep(f, "M", make, n=args.states, chunk=args.chunk, cluster=client)
         swept = x[spots].compute()  # their chunks made and evaluated again, untimed
 
     direct = np.array([f.call("M", make(i // args.chunk, min(args.chunk, args.states - i // args.chunk
@@ -84,14 +89,16 @@ def main() -> None:
            "sum_M": total.tolist()}
     print(f"{args.states} states of ur5's M, {args.workers} workers, chunks of {args.chunk}: "
           f"{wall:.1f} s wall, {cpu:.1f} s worker CPU; workers warm in {warm:.1f} s")
-    print(f"{'clock':>6} {'sweep µs/state/core':>20} {'direct call µs':>15} {'made+call µs':>13} "
-          f"{'× call':>7} {'× made+call':>11}")
+    print(f"{'clock':>6} {'sweep µs/state/core':>20} {'direct call µs':>15} {'call out= µs':>13} "
+          f"{'made+call µs':>13} {'× call':>7} {'× made+call':>11}")
     for c in clocks:
         row.update({f"sweep_us_{c}": sweep_us[c], f"direct_call_us_{c}": call[c] * 1e6,
+                    f"direct_call_into_out_us_{c}": into[c] * 1e6,
                     f"direct_made_and_call_us_{c}": made[c] * 1e6,
                     f"ratio_to_call_{c}": sweep_us[c] / (call[c] * 1e6),
                     f"ratio_to_made_and_call_{c}": sweep_us[c] / (made[c] * 1e6)})
-        print(f"{c:>6} {sweep_us[c]:>20.3f} {call[c] * 1e6:>15.3f} {made[c] * 1e6:>13.3f} "
+        print(f"{c:>6} {sweep_us[c]:>20.3f} {call[c] * 1e6:>15.3f} {into[c] * 1e6:>13.3f} "
+              f"{made[c] * 1e6:>13.3f} "
               f"{row[f'ratio_to_call_{c}']:>7.2f} {row[f'ratio_to_made_and_call_{c}']:>11.2f}")
     print(f"spot checks ({args.spots} states) equal to the direct batched call: {row['spots_equal']}; "
           f"Σ M00 over the states = {total[0, 0]:.6e}")
