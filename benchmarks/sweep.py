@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+os.environ["OMP_NUM_THREADS"] = "1"  # the direct call on one core, as each worker (dask sets it there)
 sys.path.insert(0, str(Path(__file__).parent))
 import results_io  # noqa: E402
 

@@ -129,7 +129,7 @@ def test_bound_parameters_travel_to_the_workers(cluster):
 def test_a_reduced_sweep_is_the_reduction_of_the_direct_call_per_chunk(ur5, cluster):
     """reduce=np.maximum (exact in any order) equals the direct call's maximum over each chunk's states,
     bit for bit; reduce=np.add its sum to 1e-12 (the additions in another order). States made on the
-    workers; chunks longer than a slice (4096 states) and a shorter last one."""
+    workers; chunks longer than a slice (1024 states) and a shorter last one."""
     system, f, _ = ur5
     make, n, chunk = RandomChunks(system, seed=5), 10_000, 4500
     q, u, _ = made(make, n, chunk)

@@ -29,7 +29,7 @@ from .state import random_states
 
 _built: dict[str, object] = {}  # the functions each process has rebuilt, by Model.token
 _clients: dict[str, object] = {}  # the clients sweep started, by cluster address ("" for its own)
-SLICE = 4096  # the states of a chunk evaluated and reduced at a time: their outputs stay in the cache
+SLICE = 1024  # the states of a chunk evaluated and reduced at a time: their outputs stay in the cache
 _reused = threading.local()  # each thread's arrays, by name: states made and outputs to be reduced
 
 
