@@ -129,7 +129,7 @@ def test_bound_parameters_travel_to_the_workers(cluster):
 def test_a_reduced_sweep_is_the_reduction_of_the_direct_call_per_chunk(ur5, cluster):
     """reduce=np.maximum (exact in any order) equals the direct call's maximum over each chunk's states,
     bit for bit; reduce=np.add its sum to 1e-12 (the additions in another order). States made on the
-    workers; chunks longer than a slice (1024 states) and a shorter last one."""
+    workers and given; chunks longer than a slice (1024 states) and a shorter last one."""
     system, f, _ = ur5
     make, n, chunk = RandomChunks(system, seed=5), 10_000, 4500
     q, u, _ = made(make, n, chunk)
@@ -137,6 +137,8 @@ def test_a_reduced_sweep_is_the_reduction_of_the_direct_call_per_chunk(ur5, clus
     largest = eg.sweep(f, "nle", make, n=n, chunk=chunk, cluster=cluster, reduce=np.maximum)
     assert largest.shape == (3, 6, 1) and largest.chunks[0] == (1, 1, 1)
     assert np.array_equal(largest.compute(), np.stack([d.max(axis=0) for d in direct]))
+    given = eg.sweep(f, "nle", (q, u), chunk=chunk, cluster=cluster, reduce=np.maximum)
+    assert np.array_equal(given.compute(), largest.compute())
     sums = eg.sweep(f, "M", make, n=n, chunk=chunk, cluster=cluster, reduce=np.add).compute()
     expected = np.stack([f.call("M", q[k:k + chunk]).sum(axis=0) for k in range(0, n, chunk)])
     assert np.allclose(sums, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())
@@ -176,7 +178,7 @@ def test_random_states_fill_given_arrays_with_numpys_draws(name):
     ({"states": (np.zeros((4, 6)), np.zeros((3, 6)))}, "states: u must have shape (N, 6)"),
     ({"states": RandomChunks(None)}, "n:"), ({"n": 5}, "n: 5 given for states of 4 rows"),
     ({"functions": "M"}, "functions:"), ({"cluster": 3.5}, "cluster:"), ({"reduce": sum}, "reduce:"),
-    ({"reduce": np.sin}, "reduce:")])
+    ({"reduce": np.sin}, "reduce:"), ({"reduce": np.less}, "reduce:")])
 def test_bad_arguments_are_refused_by_name(ur5, change, named):
     system, f, _ = ur5
     arguments = {"functions": f, "key": "M", "states": np.zeros((4, 6)), "chunk": 2, **change}

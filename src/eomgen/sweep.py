@@ -207,18 +207,19 @@ def sweep(functions, key: str, states, chunk: int = 100_000, cluster=None, out: 
     (see `client`). `states`: q, (q, u) or (q, u, ud), NumPy or Dask arrays of N rows; or a callable
     `make(k, n_k)` returning chunk k's states (e.g. `RandomChunks(system, seed)`), with `n` = N. Returns
     a lazy Dask array of shape (N, ...) (it computes on the cluster), or, with `out` a path, writes it to
-    Zarr there (a progress bar over the chunks) and returns the Zarr array. With `reduce` a binary NumPy
-    ufunc (np.add, np.maximum, ...), each chunk's outputs are reduced over its states where they are
-    evaluated (`reduce.reduce(outputs, axis=0)`, never stored): the result has one row per chunk (e.g.
-    `eg.sweep(f, "M", states, reduce=np.add).sum(axis=0)` is Σ M over the states)."""
+    Zarr there (a progress bar over the chunks) and returns the Zarr array. With `reduce` a NumPy ufunc
+    of two floats to a float (np.add, np.maximum, ...), each chunk's outputs are reduced over its states
+    where they are evaluated (`reduce.reduce(outputs, axis=0)`, never stored): the result has one row per
+    chunk (e.g. `eg.sweep(f, "M", states, reduce=np.add).sum(axis=0)` is Σ M over the states)."""
     try:
         import dask.array as da
         import distributed  # noqa: F401
     except ImportError:
         raise ModelError("eg.sweep needs dask.distributed (and zarr for out=): pip install 'eomgen[sweep]'") \
             from None
-    if reduce is not None and not (isinstance(reduce, np.ufunc) and (reduce.nin, reduce.nout) == (2, 1)):
-        raise ModelError(f"reduce: expected a binary NumPy ufunc such as np.add or np.maximum, got {reduce!r}")
+    if reduce is not None and not (isinstance(reduce, np.ufunc) and "dd->d" in reduce.types):
+        raise ModelError(f"reduce: expected a NumPy ufunc of two floats to a float such as np.add or "
+                         f"np.maximum, got {reduce!r}")
     built = model(functions)
     columns = {name: len(functions.catalogue.inputs[name]) for name in ("q", "u", "ud")}
     task = Evaluate(built, key, reads(functions, key), columns, params)

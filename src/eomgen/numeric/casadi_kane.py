@@ -8,8 +8,6 @@ on SX, every linear system solved by CasADi's `solve` (no inverse written out):
     u̇₀ = −Y⁻¹ (K ẇ₀ + ẏ),  ẋ = [q̇(q, u); (Pᵀ M P)⁻¹ Pᵀ (h + Sᵀ τ_a − M u̇₀)]."""
 from __future__ import annotations
 
-import numpy as np
-
 from .casadi_functions import CasadiFunctions, CasadiPrinted
 from .kane import NumericKane
 
@@ -63,7 +61,7 @@ class KaneFunctions(CasadiFunctions):
         wd0 = merged(ca.SX.zeros(nv), -ca.solve(C_dep, rates[n:]) if f._dep else None)
         ud0 = -ca.solve(Y, K @ wd0 + rates[:n])
         M = piece("M")
-        h = piece("h", u)[:, 0] + ca.DM(np.asarray(f.S)).T @ tau_a
+        h = piece("h", u)[:, 0] + ca.DM(f.S).T @ tau_a
         qdot = piece("qdot", u) if "qdot" in f.catalogue.functions else u
         wdot = ca.solve(P.T @ M @ P, P.T @ (h - M @ ud0))
         return ca.Function("rhs", inputs, [ca.vertcat(qdot, wdot)], labels, ["xdot"])
