@@ -1,5 +1,6 @@
 """eg.sweep on a local cluster of 2 worker processes: the result equals the direct call exactly at every
-state (lazy Dask array and Zarr), M agrees with Pinocchio's crba, a worker killed mid-sweep is replaced
+state (lazy Dask array and Zarr), reduced per chunk on the workers (np.maximum exactly, np.add to rounding),
+M agrees with Pinocchio's crba, a worker killed mid-sweep is replaced
 with no chunk lost or repeated, and bad arguments are refused by name."""
 from __future__ import annotations
 
@@ -125,6 +126,49 @@ def test_bound_parameters_travel_to_the_workers(cluster):
                        np.moveaxis(closed, (0, 1), (1, 2)), atol=1e-14)
 
 
+def test_a_reduced_sweep_is_the_reduction_of_the_direct_call_per_chunk(ur5, cluster):
+    """reduce=np.maximum (exact in any order) equals the direct call's maximum over each chunk's states,
+    bit for bit; reduce=np.add its sum to 1e-12 (the additions in another order). States made on the
+    workers and given; chunks longer than a slice (1024 states) and a shorter last one."""
+    system, f, _ = ur5
+    make, n, chunk = RandomChunks(system, seed=5), 10_000, 4500
+    q, u, _ = made(make, n, chunk)
+    direct = [f.call("nle", q[k:k + chunk], u[k:k + chunk]) for k in range(0, n, chunk)]
+    largest = eg.sweep(f, "nle", make, n=n, chunk=chunk, cluster=cluster, reduce=np.maximum)
+    assert largest.shape == (3, 6, 1) and largest.chunks[0] == (1, 1, 1)
+    assert np.array_equal(largest.compute(), np.stack([d.max(axis=0) for d in direct]))
+    given = eg.sweep(f, "nle", (q, u), chunk=chunk, cluster=cluster, reduce=np.maximum)
+    assert np.array_equal(given.compute(), largest.compute())
+    sums = eg.sweep(f, "M", make, n=n, chunk=chunk, cluster=cluster, reduce=np.add).compute()
+    expected = np.stack([f.call("M", q[k:k + chunk]).sum(axis=0) for k in range(0, n, chunk)])
+    assert np.allclose(sums, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("name", ["ur5", "solo12"])
+def test_random_states_fill_given_arrays_with_numpys_draws(name):
+    """random_states(system, n, rng, out=(q, u)) fills q and u with NumPy's draws in the documented order
+    (each coordinate's column by rng.uniform, a quaternion by rng.normal normalised, then u by
+    rng.uniform(−2, 2)) and returns them; the whole call gives the same q, u."""
+    system = eg.robots.load(name)
+    n, rng = 1000, np.random.default_rng(9)
+    columns = []
+    for j in system.joints:
+        if j.group == "SE3":
+            columns += [rng.uniform(-1, 1, (n, 1)) for _ in range(3)]
+            quat = rng.normal(size=(n, 4))
+            columns.append(quat / np.linalg.norm(quat, axis=1, keepdims=True))
+        else:
+            columns.append(rng.uniform(-1, 1, (n, 1)) * np.pi)  # ur5's and solo12's revolute joints
+    expected = np.concatenate(columns, axis=1), rng.uniform(-2, 2, (n, system.nv))
+    out = np.empty((n, system.nq)), np.empty((n, system.nv))
+    filled = eg.random_states(system, n, np.random.default_rng(9), out=out)
+    assert all(x is y for x, y in zip(filled, out))
+    for result in (filled, eg.random_states(system, n, np.random.default_rng(9))[:2]):
+        assert all(np.array_equal(x, y) for x, y in zip(result, expected))
+    with pytest.raises(eg.ModelError, match="random_states: out's u must be"):
+        eg.random_states(system, n, rng, out=(out[0], np.empty((n, system.nv + 1))))
+
+
 @pytest.mark.parametrize("change, named", [
     ({"key": "Q"}, "key: no function 'Q'"), ({"key": "J:nowhere"}, "key: unknown frame 'nowhere'"),
     ({"key": 3}, "key:"), ({"chunk": 0}, "chunk:"), ({"chunk": 1.5}, "chunk:"), ({"chunk": True}, "chunk:"),
@@ -133,7 +177,8 @@ def test_bound_parameters_travel_to_the_workers(cluster):
     ({"states": np.zeros((4, 5))}, "states: q must have shape (N, 6)"),
     ({"states": (np.zeros((4, 6)), np.zeros((3, 6)))}, "states: u must have shape (N, 6)"),
     ({"states": RandomChunks(None)}, "n:"), ({"n": 5}, "n: 5 given for states of 4 rows"),
-    ({"functions": "M"}, "functions:"), ({"cluster": 3.5}, "cluster:")])
+    ({"functions": "M"}, "functions:"), ({"cluster": 3.5}, "cluster:"), ({"reduce": sum}, "reduce:"),
+    ({"reduce": np.sin}, "reduce:"), ({"reduce": np.less}, "reduce:")])
 def test_bad_arguments_are_refused_by_name(ur5, change, named):
     system, f, _ = ur5
     arguments = {"functions": f, "key": "M", "states": np.zeros((4, 6)), "chunk": 2, **change}

@@ -2,7 +2,7 @@
 the mass matrix, forcing, speeds, rhs and energy, one state and batches (JAX: its own batch and vmap), on
 a rolling disk (nonholonomic, a dependent coordinate) and a four-bar (a closed loop: holonomic constraints,
 speeds by kinematic equations); JAX's own derivative (jacfwd, under jit) of rhs equals a central finite
-difference of the NumPy rhs. Slow: every catalogue entry of the JAX and CasADi functions of panda and
+difference of the NumPy rhs, as does CasADi's jacobian of its rhs, one casadi.Function. Slow: every catalogue entry of the JAX and CasADi functions of panda and
 talos equals NumPy's, with their construction times."""
 from __future__ import annotations
 
@@ -105,6 +105,30 @@ def test_jacfwd_of_rhs_is_the_finite_difference_of_numpy(system):
     steps = h * np.eye(len(x))
     difference = (f.rhs(0, x + steps, tau, params) - f.rhs(0, x - steps, tau, params)).T / (2 * h)
     close(jacobian(x), difference, 1e-6, "jacfwd of rhs")
+
+
+def test_the_casadi_rhs_is_one_function_equal_to_numpys(system):
+    """f.casadi["rhs"] (x, tau_a[, p]) → ẋ, one casadi.Function on SX: equal to the NumPy rhs to 1e-12 at
+    three states; CasADi's jacobian of it equals a central difference of the NumPy rhs (h = 1e-6) to
+    1e-6; a CasADi integrator (CVODES) of it over 0.05 s equals scipy's solve_ivp of the NumPy rhs."""
+    import casadi as ca
+    from scipy.integrate import solve_ivp
+
+    kane, params, tau, states, f, _, fc = system
+    rhs, p = fc.casadi["rhs"], [[params[str(s)] for s in fc.params]] if fc.params else []
+    assert rhs.name_in()[:2] == ["x", "tau_a"] and rhs.name_out() == ["xdot"]
+    for x in states[-1]:
+        close(rhs(x, tau, *p).full()[:, 0], f.rhs(0, x, tau, params), 1e-12, "casadi rhs")
+    x = ca.SX.sym("x", f.nx)
+    jacobian = ca.Function("J", [x], [ca.jacobian(rhs(x, tau, *p), x)])
+    h, x0 = 1e-6, states[-1][1]
+    steps = h * np.eye(len(x0))
+    difference = (f.rhs(0, x0 + steps, tau, params) - f.rhs(0, x0 - steps, tau, params)).T / (2 * h)
+    close(jacobian(x0).full(), difference, 1e-6, "casadi jacobian of rhs")
+    ode = {"x": x, "ode": rhs(x, tau, *p)}
+    flow = ca.integrator("flow", "cvodes", ode, 0, 0.05, {"abstol": 1e-12, "reltol": 1e-12})
+    reference = solve_ivp(lambda t, y: f.rhs(t, y, tau, params), (0, 0.05), x0, rtol=1e-12, atol=1e-12)
+    close(flow(x0=x0)["xf"].full()[:, 0], reference.y[:, -1], 1e-8, "casadi integrator of rhs")
 
 
 def test_a_flat_disk_is_refused_by_both_targets():

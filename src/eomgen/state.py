@@ -9,24 +9,43 @@ from .errors import ModelError
 from .model import Cylindrical, FlexibleLink, Planar, Prismatic, System, Translation
 
 
-def random_states(system: System, n: int, rng) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def random_states(system: System, n: int, rng, out: tuple | None = None) -> tuple[np.ndarray, ...]:
     """n states (q, u, u̇): angles in [−π, π] (ZYX pitch within ±0.45 π), lengths in [−0.5, 0.5] (a free
     flyer's and a planar joint's position in [−1, 1], a flexible link's nodes in [−0.05, 0.05]),
-    uniformly random unit quaternions, u and u̇ in [−2, 2]."""
+    uniformly random unit quaternions, u and u̇ in [−2, 2]. With `out`, arrays (q,), (q, u) or (q, u, u̇)
+    (C-contiguous float64, n rows) are filled and returned instead: the same values as the first arrays of
+    a whole call with the same generator (the draws in the same order: q's column by column, then u, u̇)."""
     if not isinstance(n, int) or isinstance(n, bool) or n < 0:
         raise ModelError(f"random_states: n must be a non-negative integer, got {n!r}")
-    parts = []
+    if out is not None and not (isinstance(out, tuple) and 1 <= len(out) <= 3):
+        raise ModelError(f"random_states: out must be a tuple (q,), (q, u) or (q, u, ud), got {out!r}")
+    for name, x, width in zip(("q", "u", "ud"), out or (), (system.nq, system.nv, system.nv)):
+        if not isinstance(x, np.ndarray) or x.dtype != np.float64 or x.shape != (n, width) \
+                or not x.flags.c_contiguous or not x.flags.writeable:
+            raise ModelError(f"random_states: out's {name} must be a writeable C-contiguous float64 array of "
+                             f"shape ({n}, {width}), got {getattr(x, 'shape', type(x).__name__)}")
+    q, *speeds = out if out is not None else (np.empty((n, system.nq)), np.empty((n, system.nv)),
+                                               np.empty((n, system.nv)))
+    drawn, column = np.empty((system.nq, n)), 0  # q transposed: each column's draws contiguous
     for j in system.joints:
         for label in _kinds(j):
             if label == "quaternion":
-                quat = rng.normal(size=(n, 4))
-                parts.append(quat / np.linalg.norm(quat, axis=1, keepdims=True))
-            else:
-                scale = {"angle": np.pi, "pitch": 0.45 * np.pi, "length": 0.5, "position": 1.0,
-                         "deflection": 0.05}[label]
-                parts.append(rng.uniform(-1, 1, (n, 1)) * scale)
-    q = np.concatenate(parts, axis=1) if parts else np.zeros((n, 0))
-    return q, rng.uniform(-2, 2, (n, system.nv)), rng.uniform(-2, 2, (n, system.nv))
+                quat = rng.standard_normal(out=drawn[column:column + 4].reshape(n, 4))
+                drawn[column:column + 4] = (quat / np.linalg.norm(quat, axis=1, keepdims=True)).T
+                column += 4
+            else:  # uniform(−1, 1) = 2 r − 1 in numpy's own operations, then scaled
+                x = rng.random(out=drawn[column])
+                x *= 2
+                x -= 1
+                x *= {"angle": np.pi, "pitch": 0.45 * np.pi, "length": 0.5, "position": 1.0,
+                      "deflection": 0.05}[label]
+                column += 1
+    q[...] = drawn.T
+    for v in speeds:  # uniform(−2, 2) = 4 r − 2
+        rng.random(out=v)
+        v *= 4
+        v -= 2
+    return (q, *speeds)
 
 
 def _kinds(joint) -> list[str]:

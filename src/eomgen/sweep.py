@@ -5,15 +5,17 @@ rebuilds the functions from the model itself: the client sends the pickled equat
 expressions, never a compiled module), the worker calls `eg.codegen` on them once per process (the C
 backend's cache on disk makes that a load) and keeps them for every later chunk. Chunk k's output rows
 are the states k·chunk … k·chunk + n_k − 1, in order: a task run twice (its worker lost) writes the
-same rows again, so no chunk is lost or repeated."""
+same rows again, so no chunk is lost or repeated. States made on the workers (`RandomChunks`) and, with
+`reduce`, the outputs go into arrays each worker thread reuses from chunk to chunk (no fresh pages)."""
 from __future__ import annotations
 
 import hashlib
 import os
 import pickle
+import threading
 import uuid
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
@@ -27,6 +29,18 @@ from .state import random_states
 
 _built: dict[str, object] = {}  # the functions each process has rebuilt, by Model.token
 _clients: dict[str, object] = {}  # the clients sweep started, by cluster address ("" for its own)
+SLICE = 1024  # the states of a chunk evaluated and reduced at a time: their outputs stay in the cache
+_reused = threading.local()  # each thread's arrays, by name: states made and outputs to be reduced
+
+
+def reused(name: str, shape: tuple[int, ...]) -> np.ndarray:
+    """A C-contiguous float64 array of `shape`, this thread's `name`: the first rows of one kept from an
+    earlier chunk when it has as many columns and enough rows, else a new one kept for later chunks."""
+    kept = getattr(_reused, name, None)
+    if kept is None or kept.shape[1:] != shape[1:] or len(kept) < shape[0]:
+        kept = np.empty(shape)
+        setattr(_reused, name, kept)
+    return kept[:shape[0]]
 
 
 @dataclass(frozen=True)
@@ -37,8 +51,9 @@ class RandomChunks:
     system: System
     seed: int = 0
 
-    def __call__(self, k: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        return random_states(self.system, n, np.random.default_rng((self.seed, k)))
+    def __call__(self, k: int, n: int, out: tuple | None = None) -> tuple[np.ndarray, ...]:
+        """(q, u, u̇) of chunk k; with `out`, its first arrays (see `eg.random_states`) filled."""
+        return random_states(self.system, n, np.random.default_rng((self.seed, k)), out)
 
 
 @dataclass(frozen=True)
@@ -83,7 +98,9 @@ def model(functions) -> Model:
 @dataclass(frozen=True)
 class Evaluate:
     """The task of chunk k: `key` at its states, given as blocks or made by `make(k, n_k)` (n_k the
-    chunk's rows: `chunk`, the last one the rest of `n`)."""
+    chunk's rows: `chunk`, the last one the rest of `n`; a `RandomChunks` fills reused arrays); with
+    `reduce` (a NumPy ufunc), the outputs reduced over the chunk's states, `reduce.reduce(outputs, axis=0)`,
+    slice by slice of SLICE states (the outputs written into a reused array), returned as one row."""
 
     model: Model
     key: str
@@ -93,18 +110,36 @@ class Evaluate:
     make: Callable | None = None
     chunk: int = 0
     n: int = 0
+    reduce: np.ufunc | None = None
+    shape: tuple[int, ...] = ()  # of one state's output
 
     def __call__(self, *blocks, block_id=None) -> np.ndarray:
         if self.make is not None:
             k = block_id[0]
-            made = self.make(k, min(self.chunk, self.n - k * self.chunk))
+            n = min(self.chunk, self.n - k * self.chunk)
+            reuse = isinstance(self.make, RandomChunks)
+            made = self.make(k, n, self.buffers(n)) if reuse else self.make(k, n)
             blocks = picked(made, self.inputs, self.columns)
-        return self.at(self.model.functions(), blocks)
+        f = self.model.functions()
+        if self.reduce is None:
+            return self.at(f, blocks)
+        rows = len(blocks[0])
+        out, total = reused("outputs", (min(SLICE, rows), *self.shape)), None
+        for start in range(0, rows, SLICE):  # each slice's outputs reduced while they are in the cache
+            part = [x[start:start + SLICE] for x in blocks]
+            reduced = self.reduce.reduce(self.at(f, part, out[:len(part[0])]), axis=0)
+            total = reduced if total is None else self.reduce(total, reduced, out=total)
+        return total[np.newaxis]
 
-    def at(self, f, blocks) -> np.ndarray:
-        """`key` of functions f at the states `blocks` (one array per input)."""
+    def buffers(self, n: int) -> tuple[np.ndarray, ...]:
+        """This thread's arrays for the states q, u, u̇ up to the last one `key` reads, n rows each."""
+        last = max(("q", "u", "ud").index(name) for name in self.inputs)
+        return tuple(reused(name, (n, self.columns[name])) for name in ("q", "u", "ud")[:last + 1])
+
+    def at(self, f, blocks, out: np.ndarray | None = None) -> np.ndarray:
+        """`key` of functions f at the states `blocks` (one array per input), into `out` when given."""
         states = dict(zip(self.inputs, blocks))
-        return f.call(self.key, states["q"], states.get("u"), states.get("ud"), self.params)
+        return f.call(self.key, states["q"], states.get("u"), states.get("ud"), self.params, out)
 
 
 def picked(states, inputs: tuple[str, ...], columns: dict[str, int]) -> list:
@@ -166,18 +201,25 @@ def count(n, name: str) -> int:
 
 
 def sweep(functions, key: str, states, chunk: int = 100_000, cluster=None, out: str | None = None,
-          progress: bool = True, params: dict | None = None, n: int | None = None):
+          progress: bool = True, params: dict | None = None, n: int | None = None,
+          reduce: np.ufunc | None = None):
     """`functions.call(key, q, u, ud, params)` at N states, chunk by chunk on the workers of `cluster`
     (see `client`). `states`: q, (q, u) or (q, u, ud), NumPy or Dask arrays of N rows; or a callable
     `make(k, n_k)` returning chunk k's states (e.g. `RandomChunks(system, seed)`), with `n` = N. Returns
     a lazy Dask array of shape (N, ...) (it computes on the cluster), or, with `out` a path, writes it to
-    Zarr there (a progress bar over the chunks) and returns the Zarr array."""
+    Zarr there (a progress bar over the chunks) and returns the Zarr array. With `reduce` a NumPy ufunc
+    of two floats to a float (np.add, np.maximum, ...), each chunk's outputs are reduced over its states
+    where they are evaluated (`reduce.reduce(outputs, axis=0)`, never stored): the result has one row per
+    chunk (e.g. `eg.sweep(f, "M", states, reduce=np.add).sum(axis=0)` is Σ M over the states)."""
     try:
         import dask.array as da
         import distributed  # noqa: F401
     except ImportError:
         raise ModelError("eg.sweep needs dask.distributed (and zarr for out=): pip install 'eomgen[sweep]'") \
             from None
+    if reduce is not None and not (isinstance(reduce, np.ufunc) and "dd->d" in reduce.types):
+        raise ModelError(f"reduce: expected a NumPy ufunc of two floats to a float such as np.add or "
+                         f"np.maximum, got {reduce!r}")
     built = model(functions)
     columns = {name: len(functions.catalogue.inputs[name]) for name in ("q", "u", "ud")}
     task = Evaluate(built, key, reads(functions, key), columns, params)
@@ -186,13 +228,15 @@ def sweep(functions, key: str, states, chunk: int = 100_000, cluster=None, out: 
         n = count(n, "n")
         sample = picked(states(0, 1), task.inputs, columns)
         rows, blocks = (chunk,) * (n // chunk) + ((n % chunk,) if n % chunk else ()), []
-        task = Evaluate(task.model, key, task.inputs, columns, params, states, chunk, n)
+        task = replace(task, make=states, chunk=chunk, n=n)
     else:
         blocks = [da.asarray(x).rechunk((chunk, -1)) for x in picked(states, task.inputs, columns)]
         rows, sample = blocks[0].chunks[0], [np.asarray(x[:1]) for x in blocks]
         if n is not None and n != sum(rows):
             raise ModelError(f"n: {n!r} given for states of {sum(rows)} rows")
     shape = task.at(functions, sample).shape[1:]
+    if reduce is not None:
+        task, rows = replace(task, reduce=reduce, shape=shape), (1,) * len(rows)
     pool = client(cluster)  # dask's default client from now on: the lazy array computes there
     result = da.map_blocks(task, *blocks, name=f"eomgen-sweep-{key}-{uuid.uuid4().hex}", dtype=float,
                            chunks=(rows, *((s,) for s in shape)), meta=np.empty((0, *shape)),

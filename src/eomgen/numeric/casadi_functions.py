@@ -37,7 +37,7 @@ class CasadiPrinted:
     def casadi(self):
         """The CasADi function of each catalogue function by key, of its inputs (and p unless the
         parameters are bound)."""
-        return _Functions(self)
+        return CasadiFunctions(self)
 
     def call(self, key, q, u=None, ud=None, params=None, out=None) -> np.ndarray:
         from .facade import written
@@ -66,7 +66,7 @@ def _name(key: str) -> str:
     return "".join(c if c.isalnum() or c == "_" else "_" if c == ":" else f"x{ord(c):x}" for c in key)
 
 
-class _Functions:
+class CasadiFunctions:
     """f.casadi[key]: the CasADi function of catalogue function `key` of its inputs (and p unless bound)."""
 
     def __init__(self, f: CasadiPrinted) -> None:
