@@ -13,6 +13,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import assume, given, settings
+from strategies import PinocchioTree, trees
 
 from eomgen.errors import ModelError
 from eomgen.identification import (base_parameters, condition, excite, identify, identify_consistent,
@@ -34,11 +36,24 @@ def joint(name: str, parent: str, child: str, x: float) -> str:
             '</joint>')
 
 
-def arm(mass2: float = 1.0, inertia2: float = 0.02) -> pin.Model:
-    """The 2-link arm of the module's text, from a URDF (Pinocchio's parser)."""
-    urdf = ('<robot name="arm"><link name="base"/>' + link("l1", 2.0, 0.25, 0.05) + link("l2", mass2, 0.2, inertia2)
+def arm_urdf(mass2: float = 1.0, inertia2: float = 0.02) -> str:
+    """The 2-link arm of the module's text."""
+    return ('<robot name="arm"><link name="base"/>' + link("l1", 2.0, 0.25, 0.05) + link("l2", mass2, 0.2, inertia2)
             + joint("j1", "base", "l1", 0.0) + joint("j2", "l1", "l2", A1) + "</robot>")
-    return pin.buildModelFromXML(urdf)
+
+
+def arm(mass2: float = 1.0, inertia2: float = 0.02) -> pin.Model:
+    """The 2-link arm, Pinocchio's model of its URDF."""
+    return pin.buildModelFromXML(arm_urdf(mass2, inertia2))
+
+
+def arm_inverse_dynamics(tmp_path):
+    """τ(q, u, u̇) of the 2-link arm's URDF by eomgen (its model, derivation and generated code)."""
+    import eomgen as eg
+
+    path = tmp_path / "arm.urdf"
+    path.write_text(arm_urdf())
+    return eg.codegen(eg.derive(eg.from_urdf(path))).inverse_dynamics
 
 
 def ur5() -> pin.Model:
@@ -50,8 +65,9 @@ def ur5() -> pin.Model:
 class Setup:
     """Pinocchio's regressor with armature and friction columns, the names, the true π and τ = Y π."""
 
-    def __init__(self, model: pin.Model, friction: bool = True):
+    def __init__(self, model: pin.Model, friction: bool = True, rigid=None):
         self.model, self.data, self.friction = model, model.createData(), friction
+        self.rigid = rigid or (lambda q, u, ud: np.array([pin.rnea(model, self.data, *x) for x in zip(q, u, ud)]))
         nb, nv = model.nbodies - 1, model.nv
         self.names = [f"{p}_{k}" for k in range(1, nb + 1) for p in PINOCCHIO]
         if friction:
@@ -75,9 +91,9 @@ class Setup:
         return rng.uniform(-3, 3, (n, nv)), rng.uniform(-2, 2, (n, nv)), rng.uniform(-4, 4, (n, nv))
 
     def torques(self, q, u, ud) -> np.ndarray:
-        """τ from Pinocchio's rnea (not the regressor), plus armature and friction."""
+        """τ from inverse dynamics (by default Pinocchio's rnea; not a regressor), plus armature and friction."""
         nv = self.model.nv
-        tau = np.array([pin.rnea(self.model, self.data, *x) for x in zip(q, u, ud)])
+        tau = self.rigid(q, u, ud)
         if self.friction:
             a, f = self.pi[-4 * nv: -3 * nv], self.pi[-3 * nv:].reshape(nv, 3)
             tau += a * ud + f[:, 0] * u + f[:, 1] * np.sign(u) + f[:, 2]
@@ -88,13 +104,15 @@ def stacked(setup: Setup, q, u, ud) -> np.ndarray:
     return np.concatenate([setup(*x) for x in zip(q, u, ud)])
 
 
-def svd_rank(W: np.ndarray) -> int:
-    """The numerical rank from the singular values of the column-normalised W, at a clear gap."""
-    s = np.linalg.svd(W / np.maximum(np.linalg.norm(W, axis=0), 1e-300), compute_uv=False)
+def svd_rank(W: np.ndarray) -> int | None:
+    """The numerical rank from the singular values of the column-normalised W (columns of rounding
+    errors, norm below 1e-12 of the largest, zero), at a clear gap."""
+    norms = np.linalg.norm(W, axis=0)
+    norms[norms < 1e-12 * norms.max()] = np.inf
+    s = np.linalg.svd(W / norms, compute_uv=False)
     s = s / s[0]
     rank = int(np.sum(s > 1e-9))
-    assert rank == len(s) or s[rank] < 1e-12, s  # no singular value between 1e-12 and 1e-9: a clear gap
-    return rank
+    return rank if rank == len(s) or s[rank] < 1e-12 else None  # None: a singular value in (1e-12, 1e-9]
 
 
 @pytest.mark.parametrize("friction", [False, True])
@@ -126,8 +144,10 @@ def test_the_rank_is_the_numerical_rank_and_the_base_regressor_reproduces_y_pi(m
     assert len(base.combinations()) == base.rank and base.tolerance > 0
 
 
-def test_noiseless_data_give_the_base_parameters_exactly():
-    setup = Setup(ur5())
+@pytest.mark.parametrize("robot", ["ur5", "arm"])
+def test_noiseless_data_give_the_base_parameters_exactly(robot, tmp_path):
+    """ur5's τ by Pinocchio's rnea, the 2-link arm's by eomgen's generated inverse dynamics."""
+    setup = Setup(ur5()) if robot == "ur5" else Setup(arm(), rigid=arm_inverse_dynamics(tmp_path))
     rng = np.random.default_rng(3)
     q, u, ud = setup.states(rng, 80)
     result = identify(setup, setup.names, q, u, ud, setup.torques(q, u, ud))
@@ -222,3 +242,32 @@ def test_bad_input_is_refused_naming_the_argument(call, message):
     rng = np.random.default_rng(7)
     with pytest.raises(ModelError, match=message):
         call(setup, lambda n: setup.states(rng, n))
+
+
+@settings(max_examples=15, deadline=None)
+@given(tree=trees(max_bodies=4, loads=False, frames=0))
+def test_base_parameters_of_random_trees_reproduce_y_pi(tree):
+    """Random trees (every joint type, unaligned axes, fixed bodies, gravity), Pinocchio's regressor:
+    the rank is the SVD's and Y π = Y_b β at fresh states for random π."""
+    if not 1 < np.linalg.norm(tree.gravity) < 20:  # not gravity of 1e-300 (columns of subnormal numbers)
+        tree.gravity = (0.0, 0.0, -9.81)
+    model = PinocchioTree(tree).model
+    data = model.createData()
+    names = [f"{p}_{k}" for k in range(1, model.njoints) for p in PINOCCHIO]
+    rng = np.random.default_rng(8)
+
+    def regressor(q, u, ud):
+        # Pinocchio's answer is its data's buffer, the same at every call (the identification copies it)
+        return pin.computeJointTorqueRegressor(model, data, q, u, ud).reshape(model.nv, -1)  # (10,): nv = 1
+
+    def states(n):
+        return ([pin.randomConfiguration(model, -np.pi * np.ones(model.nq), np.pi * np.ones(model.nq))
+                 for _ in range(n)], rng.uniform(-2, 2, (n, model.nv)), rng.uniform(-2, 2, (n, model.nv)))
+
+    n = 4 * len(names) // model.nv + 5
+    base = base_parameters(regressor, names, *states(n))
+    W = np.concatenate([regressor(*x).copy() for x in zip(*states(n))])
+    assume(svd_rank(W) is not None)  # a tree whose rank the SVD shows with a clear gap
+    assert base.rank == svd_rank(W)
+    pi = rng.normal(size=len(names))
+    assert np.allclose(base.regressor(W) @ base.of(pi), W @ pi, rtol=0, atol=1e-9 * max(1, np.abs(W @ pi).max()))

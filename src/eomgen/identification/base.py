@@ -9,7 +9,9 @@ Y₂ = Y₁ D₁⁻¹ R₁₁⁻¹ R₁₂ D₂, so that
 
 The rank tolerance is LAPACK's rule for a numerical rank, τ = max(K·nv, p) · ε · |R₁₁|₁ (ε the
 double precision, |R₁₁|₁ the largest diagonal entry of R, the columns normalised to unit length so
-that the parameters' units do not matter); `tolerance` sets a relative tolerance instead."""
+that the parameters' units do not matter). Before that, a column whose norm is at most τ/|R₁₁|₁ times
+the largest column norm is taken as zero: a parameter that does not act, its column rounding errors
+(normalised, they would look independent). `tolerance` sets the relative τ/|R₁₁|₁ instead."""
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -75,16 +77,16 @@ def base_parameters(regressor: Regressor, names: Sequence[str], q, u, ud,
 def _base(W: np.ndarray, names: tuple[str, ...], tolerance: float | None) -> BaseParameters:
     """The pivoted QR split of the stacked regressor W (rows × p)."""
     p = W.shape[1]
-    scale = np.linalg.norm(W, axis=0)
-    scale[scale == 0] = 1.0  # a column that is zero everywhere: a parameter that never acts
-    _, R, pivots = scipy.linalg.qr(W / scale, mode="economic", pivoting=True)
-    diagonal = np.abs(np.diag(R))
-    if diagonal[0] == 0:
-        raise ModelError("base_parameters: the regressor is zero at every state given")
-    diagonal = diagonal / diagonal[0]
     tol = max(W.shape) * np.finfo(float).eps if tolerance is None else float(tolerance)
     if not 0 < tol < 1:
         raise ModelError(f"base_parameters: argument 'tolerance' must be in (0, 1), got {tolerance!r}")
+    scale = np.linalg.norm(W, axis=0)
+    if scale.max() == 0:
+        raise ModelError("base_parameters: the regressor is zero at every state given")
+    zero = scale <= tol * scale.max()  # a parameter that never acts (its column rounding errors at most)
+    W, scale[zero] = np.where(zero, 0.0, W), 1.0
+    _, R, pivots = scipy.linalg.qr(W / scale, mode="economic", pivoting=True)
+    diagonal = np.abs(np.diag(R)) / abs(R[0, 0])
     b = int(np.sum(diagonal > tol))
     independent, dependent = pivots[:b], pivots[b:]
     K = scipy.linalg.solve_triangular(R[:b, :b], R[:b, b:])  # scaled: Y₂ D₂⁻¹ = Y₁ D₁⁻¹ K

@@ -66,11 +66,11 @@ def batch(regressor: Regressor, q: np.ndarray, u: np.ndarray, ud: np.ndarray) ->
     """The regressor as a batched callable, (N, nq), (N, nv), (N, nv) → (N, nv, p): itself where its
     answer to the batch (q, u, u̇) has that shape and agrees with a single call at the first state,
     else a loop over the states."""
-    def loop(q, u, ud) -> np.ndarray:
-        return np.stack([np.asarray(regressor(*x), dtype=float) for x in zip(q, u, ud)])
+    def loop(q, u, ud) -> np.ndarray:  # copies: a regressor may answer in one buffer (Pinocchio's data)
+        return np.stack([np.array(regressor(*x), dtype=float) for x in zip(q, u, ud)])
 
     def whole(q, u, ud) -> np.ndarray:
-        return np.asarray(regressor(q, u, ud), dtype=float)
+        return np.array(regressor(q, u, ud), dtype=float)
 
     if getattr(regressor, "batched", False):  # already decided
         return regressor
