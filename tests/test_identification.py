@@ -271,3 +271,31 @@ def test_base_parameters_of_random_trees_reproduce_y_pi(tree):
     assert base.rank == svd_rank(W)
     pi = rng.normal(size=len(names))
     assert np.allclose(base.regressor(W) @ base.of(pi), W @ pi, rtol=0, atol=1e-9 * max(1, np.abs(W @ pi).max()))
+
+
+@pytest.mark.slow
+def test_ur5_excited_identified_and_consistent():
+    """The whole chain on ur5: an excitation trajectory within its URDF's limits, noisy torques on it,
+    least squares (β within 4 standard deviations, held-out torques predicted), the consistent fit
+    realisable and about as close to the data."""
+    model = ur5()
+    setup = Setup(model)
+    rng = np.random.default_rng(9)
+    lower, upper = np.maximum(model.lowerPositionLimit, -3), np.minimum(model.upperPositionLimit, 3)
+    result = excite(setup, setup.names, lower, upper, np.minimum(model.velocityLimit, 2), harmonics=4,
+                    samples=60, restarts=2, iterations=10, time_limit=60, rng=rng)
+    assert result.condition < result.start
+    noise = np.array([0.5, 0.5, 0.3, 0.1, 0.1, 0.05])
+    times = np.linspace(0, result.fourier.period, 500, endpoint=False)
+    q, u, ud = result.fourier(times)
+    tau = setup.torques(q, u, ud) + rng.normal(size=q.shape) * noise
+    fit = identify(setup, setup.names, q, u, ud, tau, base=result.base)
+    assert (np.abs(fit.beta - result.base.of(setup.pi)) < 4 * fit.std).all()
+    q, u, ud = setup.states(rng, 200)
+    error = fit.predict(q, u, ud) - setup.torques(q, u, ud)
+    assert (np.sqrt((error**2).mean(axis=0)) < noise).all()
+    nonnegative = [n for n in setup.names if n.split("_")[0] in ("armature", "viscous", "coulomb")]
+    q, u, ud = result.fourier(times)
+    consistent = identify_consistent(setup, setup.names, q, u, ud, tau, bodies=6, nonnegative=nonnegative,
+                                     base=result.base)
+    assert consistent.eigenvalues.min() > -1e-7 and (consistent.rms < 1.2 * fit.rms + 1e-3).all()
