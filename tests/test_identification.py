@@ -1,5 +1,6 @@
 """Identification (eomgen.identification) on Pinocchio's regressor `computeJointTorqueRegressor` (independent
-of eomgen's), with armature and friction columns added here: τ_j += I_a,j u̇_j + f_v,j u_j + f_c,j sign(u_j) + f_o,j.
+of eomgen's), with armature and friction columns added here:
+τ_j += I_a,j u̇_j + f_v,j u_j + f_c,j sign(u_j) + f_o,j.
 
 The 2-link arm turns about y (parallel axes), links along x, gravity −z: a planar arm in a vertical
 plane. Its base parameters by hand (Khalil's regrouping, inertia about each joint's origin, c = cos, s = sin):
@@ -27,18 +28,21 @@ A1 = 0.5
 
 def link(name: str, mass: float, com: float, inertia: float) -> str:
     return (f'<link name="{name}"><inertial><origin xyz="{com} 0 0.01"/><mass value="{mass}"/>'
-            f'<inertia ixx="{inertia}" ixy="0" ixz="0" iyy="{inertia}" iyz="0" izz="{inertia}"/></inertial></link>')
+            f'<inertia ixx="{inertia}" ixy="0" ixz="0" iyy="{inertia}" iyz="0" izz="{inertia}"/>'
+            '</inertial></link>')
 
 
 def joint(name: str, parent: str, child: str, x: float) -> str:
     return (f'<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
-            f'<origin xyz="{x} 0 0"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="100" velocity="5"/>'
+            f'<origin xyz="{x} 0 0"/><axis xyz="0 1 0"/>'
+            '<limit lower="-3" upper="3" effort="100" velocity="5"/>'
             '</joint>')
 
 
 def arm_urdf(mass2: float = 1.0, inertia2: float = 0.02) -> str:
     """The 2-link arm of the module's text."""
-    return ('<robot name="arm"><link name="base"/>' + link("l1", 2.0, 0.25, 0.05) + link("l2", mass2, 0.2, inertia2)
+    return ('<robot name="arm"><link name="base"/>' + link("l1", 2.0, 0.25, 0.05)
+            + link("l2", mass2, 0.2, inertia2)
             + joint("j1", "base", "l1", 0.0) + joint("j2", "l1", "l2", A1) + "</robot>")
 
 
@@ -67,7 +71,8 @@ class Setup:
 
     def __init__(self, model: pin.Model, friction: bool = True, rigid=None):
         self.model, self.data, self.friction = model, model.createData(), friction
-        self.rigid = rigid or (lambda q, u, ud: np.array([pin.rnea(model, self.data, *x) for x in zip(q, u, ud)]))
+        self.rigid = rigid or (lambda q, u, ud: np.array([pin.rnea(model, self.data, *x)
+                                                          for x in zip(q, u, ud)]))
         nb, nv = model.nbodies - 1, model.nv
         self.names = [f"{p}_{k}" for k in range(1, nb + 1) for p in PINOCCHIO]
         if friction:
@@ -91,7 +96,7 @@ class Setup:
         return rng.uniform(-3, 3, (n, nv)), rng.uniform(-2, 2, (n, nv)), rng.uniform(-4, 4, (n, nv))
 
     def torques(self, q, u, ud) -> np.ndarray:
-        """τ from inverse dynamics (by default Pinocchio's rnea; not a regressor), plus armature and friction."""
+        """τ from inverse dynamics (by default Pinocchio's rnea; no regressor) plus armature and friction."""
         nv = self.model.nv
         tau = self.rigid(q, u, ud)
         if self.friction:
@@ -201,7 +206,8 @@ def _pseudo_inertia(p: np.ndarray) -> np.ndarray:
     """J = ∫ [x; 1][x; 1]ᵀ dm from the ten parameters, written out (Wensing et al. 2017, eq. 6)."""
     m, h, (xx, xy, yy, xz, yz, zz) = p[0], p[1:4], p[4:]
     inertia = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-    return np.block([[0.5 * np.trace(inertia) * np.eye(3) - inertia, h[:, None]], [h[None, :], np.array([[m]])]])
+    Sigma = 0.5 * np.trace(inertia) * np.eye(3) - inertia
+    return np.block([[Sigma, h[:, None]], [h[None, :], np.array([[m]])]])
 
 
 def test_the_excitation_trajectory_improves_the_condition_number_within_the_limits():
@@ -234,6 +240,8 @@ def test_the_excitation_trajectory_improves_the_condition_number_within_the_limi
     (lambda s, x: identify_consistent(s, s.names, *x(40), np.zeros((40, 2)), bodies=2,
                                       nonnegative=["viscous_3"]), "unknown parameter 'viscous_3'"),
     (lambda s, x: identify_consistent(s, s.names, *x(40), np.zeros((40, 2)), bodies=9), "'bodies'"),
+    (lambda s, x: identify_consistent(s, s.names, *x(40), np.zeros((40, 2)), bodies=2,
+                                      prior=np.zeros((2, 28))), "'prior'"),
     (lambda s, x: excite(s, s.names, [1, 1], [0, 2], [1, 1]), "lower < upper"),
     (lambda s, x: excite(s, s.names, [0, 0], [1, 1], [1, 1], iterations=0), "'iterations'"),
 ])
@@ -270,7 +278,8 @@ def test_base_parameters_of_random_trees_reproduce_y_pi(tree):
     assume(svd_rank(W) is not None)  # a tree whose rank the SVD shows with a clear gap
     assert base.rank == svd_rank(W)
     pi = rng.normal(size=len(names))
-    assert np.allclose(base.regressor(W) @ base.of(pi), W @ pi, rtol=0, atol=1e-9 * max(1, np.abs(W @ pi).max()))
+    tau = W @ pi
+    assert np.allclose(base.regressor(W) @ base.of(pi), tau, rtol=0, atol=1e-9 * max(1, np.abs(tau).max()))
 
 
 @pytest.mark.slow

@@ -55,7 +55,9 @@ def identify_consistent(regressor: Regressor, names: Sequence[str], q, u, ud, ta
         if name not in names:
             raise unknown("parameter", name, names)
     signs = [names.index(n) for n in nonnegative]
-    prior = np.zeros(p) if prior is None else rows(prior, "prior", p)[0]
+    prior = np.zeros((1, p)) if prior is None else rows(prior, "prior", p)
+    if len(prior) != 1:
+        raise ModelError(f"argument 'prior' must be one vector of {p} parameters, got {len(prior)} rows")
     if not regularisation >= 0:
         raise ModelError(f"argument 'regularisation' must be ≥ 0, got {regularisation!r}")
     Y = stack(regressor, names, q, u, ud)
@@ -70,7 +72,7 @@ def identify_consistent(regressor: Regressor, names: Sequence[str], q, u, ud, ta
     pi = cp.hstack([_parameters(Jk) for Jk in J] + [rest])
     scale = max(c @ c, np.finfo(float).tiny)
     objective = (cp.sum_squares(R @ pi - Q.T @ c)
-                 + regularisation * np.sum(A**2) / p * cp.sum_squares(pi - prior)) / scale
+                 + regularisation * np.sum(A**2) / p * cp.sum_squares(pi - prior[0])) / scale
     constraints = [Jk >> 0 for Jk in J] + [pi[i] >= 0 for i in signs]
     problem = cp.Problem(cp.Minimize(objective), constraints)
     problem.solve(solver=cp.CLARABEL)
