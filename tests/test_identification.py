@@ -230,6 +230,15 @@ def test_the_excitation_trajectory_improves_the_condition_number_within_the_limi
     assert np.allclose(q, result.q) and np.allclose(ud, result.ud)
 
 
+def test_an_unclear_rank_gap_is_warned():
+    """Columns q₀ and q₀ + 10⁻¹¹ q₁: independent, but barely above rounding errors."""
+    rng = np.random.default_rng(10)
+    q, u = rng.normal(size=(40, 2)), rng.normal(size=(40, 1))
+    with pytest.warns(UserWarning, match="no clear rank gap"):
+        base = base_parameters(lambda q, u, ud: np.array([[q[0], q[0] + 1e-11 * q[1]]]), ["a", "b"], q, u, u)
+    assert base.rank == 2
+
+
 @pytest.mark.parametrize("call, message", [
     (lambda s, x: base_parameters(s, s.names, *x(2)), "give more states"),
     (lambda s, x: base_parameters(s, s.names[:-1], *x(40)), "'regressor' must return"),

@@ -14,6 +14,7 @@ the largest column norm is taken as zero: a parameter that does not act, its col
 (normalised, they would look independent). `tolerance` sets the relative τ/|R₁₁|₁ instead."""
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -24,6 +25,7 @@ from ..errors import ModelError
 from .data import Regressor, checked_names, stack
 
 DROPPED = 1e-10  # coefficients of the combinations' text below this magnitude are left out
+GAP = 1e-9  # an independent column's relative |R_kk| below this: warned, the rank may be rounding errors
 
 
 @dataclass(frozen=True)
@@ -88,6 +90,10 @@ def _base(W: np.ndarray, names: tuple[str, ...], tolerance: float | None) -> Bas
     _, R, pivots = scipy.linalg.qr(W / scale, mode="economic", pivoting=True)
     diagonal = np.abs(np.diag(R)) / abs(R[0, 0])
     b = int(np.sum(diagonal > tol))
+    if diagonal[b - 1] < GAP:
+        warnings.warn(f"base_parameters: no clear rank gap: the smallest independent column's |R_kk| is "
+                      f"{diagonal[b - 1]:.1e} of |R_11| (rounding errors may count as rank); see "
+                      "BaseParameters.diagonal and set `tolerance`", stacklevel=3)
     independent, dependent = pivots[:b], pivots[b:]
     K = scipy.linalg.solve_triangular(R[:b, :b], R[:b, b:])  # scaled: Y₂ D₂⁻¹ = Y₁ D₁⁻¹ K
     full = np.zeros((b, p))
