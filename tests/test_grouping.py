@@ -155,9 +155,11 @@ def test_robots_grouping_has_the_numerical_rank(name, rank):
     assert len(G.names) == np.linalg.matrix_rank(Y) == np.linalg.matrix_rank(Y[:, G.columns])
 
 
-def test_armature_of_a_joint_on_the_world_is_grouped_with_its_link_inertia():
-    """ur5 with armatures: each joint's column u̇_i at row i joins Y; the first joint turns about a fixed
-    vertical axis, so its armature adds to Izz of the first link (one fewer base parameter)."""
+def test_armatures_of_joints_that_spin_alone_are_grouped_with_their_link_inertia():
+    """ur5 with armatures: each joint's column u̇_i at row i joins Y. The first joint turns about a fixed
+    vertical axis, so its armature adds to Izz of the first link; the second joint's axis is horizontal,
+    perpendicular to the only rotation of its parent, so a·ω₂ = q̇₂ and its armature adds to Iyy of the
+    second link: two fewer base parameters than the 36 + 6 columns."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         system = eg.robots.load("ur5")
@@ -170,6 +172,7 @@ def test_armature_of_a_joint_on_the_world_is_grouped_with_its_link_inertia():
         rows.append(np.hstack([Y, np.diag(ud)]))
     Y = np.vstack(rows)
     G = base(grouped(system, armature=True), Y)
-    first = moving(system)[0]
-    assert len(G.names) == np.linalg.matrix_rank(Y) == 36 + 5
-    assert f"Izz_{first.name}R" in G.names and f"Ia_{first.joint.name}" not in G.names
+    first, second = moving(system)[:2]
+    assert len(G.names) == np.linalg.matrix_rank(Y) == 36 + 4
+    assert {f"Izz_{first.name}R", f"Iyy_{second.name}R"} <= set(G.names)
+    assert not {f"Ia_{first.joint.name}", f"Ia_{second.joint.name}"} & set(G.names)

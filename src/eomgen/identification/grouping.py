@@ -16,8 +16,9 @@ A part (m, h, I) at O_j becomes, on the parent (x_parent = R x + p, the joint's 
     m,  R h + m p,  R I Rᵀ + m (pᵀp 1 − p pᵀ) + 2 (pᵀ h') 1 − p h'ᵀ − h' pᵀ   (h' = R h),
 
 since a revolute joint's rotation leaves a, h_k a and (1 − a aᵀ) in place. What moves onto the world
-has no effect (it is not identifiable). A revolute joint on the world with a = e_k: its armature enters
-as the body's I_kk does (½ I_a q̇²), so it is grouped with I_kk. Bodies whose joint is of another kind
+has no effect (it is not identifiable). A revolute joint with a = e_k whose parent's angular velocity is
+always perpendicular to a (the world, or a link turning about a fixed axis b ⊥ a): a·ω_j = q̇_j, so its
+armature enters as the body's I_kk does (½ I_a q̇²) and is grouped with I_kk. Bodies whose joint is of another kind
 (spherical, free, helical, several axes) and axes off the coordinate axes keep their ten parameters.
 
 What is left may still hold columns that never move (a body turning about a fixed axis: its I_ii − I_jj,
@@ -120,6 +121,19 @@ def carrier(body):
     return parent, R, p
 
 
+def spins_alone(body) -> bool:
+    """Whether a·ω_j = q̇_j always: the parent's angular velocity ω_p is perpendicular to the joint's axis a,
+    because the parent is the world or turns about a world-fixed axis b with a·b = 0 (to 1e-9, the
+    round-off of files' angles)."""
+    parent, R, _ = carrier(body)
+    if parent is None:
+        return True
+    if not isinstance(parent.joint, Revolute) or carrier(parent)[0] is not None:
+        return False
+    dot = (R * body.joint.axis).dot(parent.joint.axis)
+    return dot.is_number and abs(float(dot)) < 1e-9
+
+
 def group(system: System, parameter_names: list[str], pi: list, armature: bool) -> Grouping:
     """The structural grouping of the inertial parameters (and armatures) of `system`'s tree.
 
@@ -142,7 +156,7 @@ def group(system: System, parameter_names: list[str], pi: list, armature: bool) 
         joints = [b for b in bodies if b.index is not None]
         for n, body in enumerate(joints):
             k = coordinate_axis(body.joint) if isinstance(body.joint, Revolute) else None
-            if carrier(body)[0] is None and k is not None and body.joint.mimic is None:
+            if k is not None and body.joint.mimic is None and spins_alone(body):
                 beta[10 * bodies.index(body) + INERTIA[(k, k)]] += rest[n]
                 rest[n] = sp.S.Zero
     beta += rest
