@@ -176,3 +176,17 @@ def test_armatures_of_joints_that_spin_alone_are_grouped_with_their_link_inertia
     assert len(G.names) == np.linalg.matrix_rank(Y) == 36 + 4
     assert {f"Izz_{first.name}R", f"Iyy_{second.name}R"} <= set(G.names)
     assert not {f"Ia_{first.joint.name}", f"Ia_{second.joint.name}"} & set(G.names)
+
+
+def test_panda_arm_has_the_43_base_parameters_of_gaz_et_al():
+    """The Franka Emika Panda with its fingers locked (the hand on link 7): 43 base inertial parameters
+    (Gaz, Cognetti, Oliva, Robuffo Giordano, De Luca, IEEE RA-L 2019), by Pinocchio's regressor's rank and
+    by the grouping."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        panda = eg.robots.load("panda")
+    fingers = {j.name: 0.0 for j in panda.joints if "finger" in j.name}
+    arm = panda.reduced(fingers)
+    Y = regressor(arm, states=80)
+    G = base(grouped(arm), Y)
+    assert len(fingers) == 2 and len(G.names) == np.linalg.matrix_rank(Y) == 43
