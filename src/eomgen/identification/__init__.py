@@ -4,14 +4,16 @@ body in Pinocchio's order, then armature and friction), Y a regressor callable w
 - `base_parameters`: the identifiable combinations β (pivoted QR on random states);
 - `identify`: weighted least squares for β with its standard deviations and condition number;
 - `identify_consistent`: π with every body's pseudo-inertia ⪰ 0 (cvxpy, the extra `identification`);
-- `excite`: a Fourier excitation trajectory within joint limits, optimised for cond(Y_b)."""
+- `excite`: a Fourier excitation trajectory within joint limits, optimised for cond(Y_b);
+- `group`: the base parameters as sympy expressions in the user's symbols, from the tree's structure."""
 from .base import BaseParameters, base_parameters
 from .consistent import ConsistentIdentification, identify_consistent
 from .excitation import Excitation, condition, excite
 from .fourier import Fourier, random_fourier
+from .grouping import Grouping, group
 from .least_squares import Identification, identify
 from .pseudo_inertia import pseudo_inertia, smallest_eigenvalues
 
-__all__ = ["BaseParameters", "ConsistentIdentification", "Excitation", "Fourier", "Identification",
-           "base_parameters", "condition", "excite", "identify", "identify_consistent", "pseudo_inertia",
+__all__ = ["BaseParameters", "ConsistentIdentification", "Excitation", "Fourier", "Grouping", "Identification",
+           "base_parameters", "condition", "excite", "group", "identify", "identify_consistent", "pseudo_inertia",
            "random_fourier", "smallest_eigenvalues"]
