@@ -14,6 +14,6 @@ from .grouping import Grouping, group
 from .least_squares import Identification, identify
 from .pseudo_inertia import pseudo_inertia, smallest_eigenvalues
 
-__all__ = ["BaseParameters", "ConsistentIdentification", "Excitation", "Fourier", "Grouping", "Identification",
-           "base_parameters", "condition", "excite", "group", "identify", "identify_consistent", "pseudo_inertia",
-           "random_fourier", "smallest_eigenvalues"]
+__all__ = ["BaseParameters", "ConsistentIdentification", "Excitation", "Fourier", "Grouping",
+           "Identification", "base_parameters", "condition", "excite", "group", "identify",
+           "identify_consistent", "pseudo_inertia", "random_fourier", "smallest_eigenvalues"]

@@ -18,8 +18,9 @@ A part (m, h, I) at O_j becomes, on the parent (x_parent = R x + p, the joint's 
 since a revolute joint's rotation leaves a, h_k a and (1 − a aᵀ) in place. What moves onto the world
 has no effect (it is not identifiable). A revolute joint with a = e_k whose parent's angular velocity is
 always perpendicular to a (the world, or a link turning about a fixed axis b ⊥ a): a·ω_j = q̇_j, so its
-armature enters as the body's I_kk does (½ I_a q̇²) and is grouped with I_kk. Bodies whose joint is of another kind
-(spherical, free, helical, several axes) and axes off the coordinate axes keep their ten parameters.
+armature enters as the body's I_kk does (½ I_a q̇²) and is grouped with I_kk. Bodies whose joint is of
+another kind (spherical, free, helical, several axes) and axes off the coordinate axes keep their ten
+parameters.
 
 What is left may still hold columns that never move (a body turning about a fixed axis: its I_ii − I_jj,
 I_ij, ...; first moments along gravity) or dependencies beyond these rules: `check` finds them on the
