@@ -10,9 +10,10 @@ by `jax.vmap`, and the numeric algorithms in jax.numpy, so that `jax.jit`, `jax.
 float64 by default (JAX's 64-bit mode, `jax_enable_x64`, is switched on when such functions are made);
 float32 with dtype="float32". On CPU the values come from the C backend's compiled kernels by default
 (kernels="c", `jax_kernels`: one C call per vmapped batch, derivatives from the traced graph);
-kernels="xla" traces the printed graph everywhere. Inside `jax.jit` no value is checked (NaN, infinities: JAX cannot raise on
-values); shapes are. J in the constrained dynamics holds the rows some motion can violate at three
-random states (`constrained.row_sizes`), fixed when the functions are made."""
+kernels="xla" traces the printed graph everywhere. Inside `jax.jit` no value is checked by the graph
+(NaN, infinities: JAX cannot raise on values; the C kernels raise); shapes are. J in the constrained
+dynamics holds the rows some motion can violate at three random states (`constrained.row_sizes`), fixed
+when the functions are made."""
 from __future__ import annotations
 
 import numpy as np
