@@ -81,7 +81,7 @@ def test_derivatives_are_the_traced_graphs(features):
     close(grad, central, 1e-6, "grad of M[0, 1]")
 
 
-def test_bound_params_float32_and_other_platforms(features):
+def test_bound_params_float32_nan_and_other_platforms(features):
     eom, f, fj = features
     Q, U, _ = eg.random_states(eom.system, 4, np.random.default_rng(1))
     bound = {k: v for k, v in PARAMS.items() if k != "i_m"}  # the motor current is state
@@ -90,6 +90,8 @@ def test_bound_params_float32_and_other_platforms(features):
     f32 = eg.codegen(eom, backend="jax", dtype="float32", params=bound)
     assert f32.kernels == "c" and f32.M(Q).dtype == np.float32  # computed in float64, rounded
     close(f32.M(Q), f.M(Q, PARAMS), 1e-6, "float32")
+    with pytest.raises(jax.errors.JaxRuntimeError, match="q: contains NaN or infinite values"):
+        np.asarray(fj.M(np.full(fj.nq, np.nan), PARAMS))  # the C kernel checks its inputs
     p = np.asarray(fj.parameter_vector(PARAMS, "M"))
     for platform, callback in (("cpu", True), ("cuda", False)):
         lowered = jax.jit(fj.jax["M"]).trace(Q[0], U[0], U[0], p).lower(lowering_platforms=(platform,))

@@ -55,8 +55,9 @@ class Kernels:
         self._lock = threading.Lock()
 
     def add(self, key: str) -> None:
-        if key not in self.compiled and key not in self.pending:
-            self.pending.append(key)
+        with self._lock:
+            if key not in self.compiled and key not in self.pending:
+                self.pending.append(key)
 
     def function(self, key: str):
         """The compiled function `key`: (q, u, ud, p, out) → its matrix, one state or N."""
