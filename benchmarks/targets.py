@@ -5,8 +5,9 @@ Per robot, for each function (M and nle by default; --keys adds ID, ID_derivativ
 - construction: eg.derive; eg.codegen per backend: C including the compiles (the functions, and their
   vector functions on the first batch) in a fresh EOMGEN_CACHE (no cache hit); JAX (`jax_construction`)
   making the functions, then the first call of `jax.jit` of each function of one state and of its
-  `jax.vmap`: with the C kernels (kernels="c", the default) in a fresh EOMGEN_CACHE (their compile
-  included) and again with it warm, and with kernels="xla"; CasADi building the SX `casadi.Function`s
+  `jax.vmap`: with the C kernels (kernels="c", the default) in a fresh process and a fresh EOMGEN_CACHE
+  (their compile included; in this process the C backend's modules are loaded already), then in a second
+  process with that cache warm (`jax_processes`), and with kernels="xla"; CasADi building the SX `casadi.Function`s
   (codegen) and `f.casadi[key]`;
 - per call (one state, µs): NumPy and C through `f.call`, JAX `jit(f.jax[key])` on device arrays
   (block_until_ready) with kernels="c" (JAX) and "xla" (XLA), CasADi `f.casadi[key]` called with numbers;
@@ -83,18 +84,17 @@ def inputs(f, key: str, q, u, ud) -> list:
     return [given[x.strip()] for x in f.catalogue[key].inputs.split(",")]
 
 
-def construction(eom, keys: list[str], states, options: dict) -> tuple[dict, dict]:
+def construction(name: str, eom, keys: list[str], states, options: dict) -> tuple[dict, dict]:
     """({backend: functions}, {what: seconds}): codegen per backend with the functions `keys` made; C in
     a fresh cache (never a cache hit), with its vector functions, compiled on the first batch; JAX by
-    `jax_construction`: kernels="c" in a fresh cache, then warm, and kernels="xla"."""
-    made, times = {}, {}
+    `jax_construction`: kernels="c" (timed in `jax_processes`) and kernels="xla"."""
+    made, times = {}, jax_processes(name, keys)
     for backend in BACKENDS:
         with tempfile.TemporaryDirectory() as cache:
             os.environ["EOMGEN_CACHE"] = cache
             t = time.perf_counter()
             if backend == "jax":
-                made["jax"], times["jax_cold_s"] = jax_construction(eom, keys, states, "c", options)
-                made["jax"], times["jax_warm_s"] = jax_construction(eom, keys, states, "c", options)
+                made["jax"] = jax_construction(eom, keys, states, "c", options)[0]
                 made["xla"], times["xla_s"] = jax_construction(eom, keys, states, "xla", options)
                 continue
             f = eg.codegen(eom, backend=backend)
@@ -105,6 +105,16 @@ def construction(eom, keys: list[str], states, options: dict) -> tuple[dict, dic
             times[f"{backend}_codegen_s"] = time.perf_counter() - t
         made[backend] = f
     return made, times
+
+
+def jax_processes(name: str, keys: list[str]) -> dict:
+    """{"jax_cold_s", "jax_warm_s"}: `jax_construction` with the C kernels in a new process with a fresh
+    EOMGEN_CACHE, then in another with that cache warm (the robot derived before the clock starts)."""
+    with tempfile.TemporaryDirectory() as cache:
+        command = [sys.executable, __file__, name, "--keys", *keys, "--jax-construction"]
+        run = [subprocess.run(command, env={**os.environ, "EOMGEN_CACHE": cache}, capture_output=True,
+                              text=True, check=True) for _ in range(2)]
+    return {"jax_cold_s": float(run[0].stdout.split()[-1]), "jax_warm_s": float(run[1].stdout.split()[-1])}
 
 
 def jax_construction(eom, keys: list[str], states, kernels: str, options: dict):
@@ -203,17 +213,21 @@ def bench_casadi(f, key: str, states, batch: int, repeat: int, numpy_one, numpy_
     return row
 
 
-def bench(name: str, keys: list[str], args, cpu, gpu) -> tuple[dict, list[dict]]:
-    """The robot's construction times and one row per function."""
+def load(name: str):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # files with inertias Pinocchio takes as they are
-        system = eg.robots.load(name)
+        return eg.robots.load(name)
+
+
+def bench(name: str, keys: list[str], args, cpu, gpu) -> tuple[dict, list[dict]]:
+    """The robot's construction times and one row per function."""
+    system = load(name)
     t = time.perf_counter()
     eom = eg.derive(system)
     robot = {"robot": name, "nq": system.nq, "nv": system.nv, "method": eom.method,
              "derive_s": time.perf_counter() - t}
     states = eg.random_states(system, args.states, np.random.default_rng(0))
-    f, times = construction(eom, keys, states, args.xla)
+    f, times = construction(name, eom, keys, states, args.xla)
     robot.update(times)
     rows = []
     for key in keys:
@@ -228,7 +242,7 @@ def show_robot(r: dict) -> None:
     print(f"\n{r['robot']} (nq {r['nq']}, nv {r['nv']}, {r['method']}): derive {r['derive_s']:.1f} s; "
           f"codegen NumPy {r['numpy_codegen_s']:.2f} s, C {r['c_codegen_s']:.1f} s (with the compile); JAX "
           f"(functions + first jit and jit(vmap) of each): C kernels {r['jax_cold_s']:.1f} s in a fresh "
-          f"cache, {r['jax_warm_s']:.1f} s warm, XLA {r['xla_s']:.1f} s; CasADi "
+          f"process and cache, {r['jax_warm_s']:.1f} s with the cache warm, XLA {r['xla_s']:.1f} s; CasADi "
           f"{r['casadi_construction_s']:.2f} s")
 
 
@@ -277,9 +291,15 @@ def main() -> None:
                     help="jit the traced graph with XLA's fusion pass off for every function (see the module's "
                          "docstring)")
     ap.add_argument("--out", default=results_io.default_path("targets"))
+    ap.add_argument("--jax-construction", action="store_true", help=argparse.SUPPRESS)  # jax_processes
     args = ap.parse_args()
     args.xla = NO_FUSION if args.xla_no_fusion else {}
     eg.quiet()
+    if args.jax_construction:
+        eom = eg.derive(load(args.names[0]))
+        states = eg.random_states(eom.system, 2, np.random.default_rng(0))
+        print(jax_construction(eom, args.keys, states, "c", args.xla)[1])
+        return
     import casadi
     import jax
 
