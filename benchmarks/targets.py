@@ -7,8 +7,8 @@ Per robot, for each function (M and nle by default; --keys adds ID, ID_derivativ
   making the functions, then the first call of `jax.jit` of each function of one state and of its
   `jax.vmap`: with the C kernels (kernels="c", the default) in a fresh process and a fresh EOMGEN_CACHE
   (their compile included; in this process the C backend's modules are loaded already), then in a second
-  process with that cache warm (`jax_processes`), and with kernels="xla"; CasADi building the SX `casadi.Function`s
-  (codegen) and `f.casadi[key]`;
+  process with that cache warm (`jax_processes`), and with kernels="xla"; CasADi building the SX
+  `casadi.Function`s (codegen) and `f.casadi[key]`;
 - per call (one state, µs): NumPy and C through `f.call`, JAX `jit(f.jax[key])` on device arrays
   (block_until_ready) with kernels="c" (JAX) and "xla" (XLA), CasADi `f.casadi[key]` called with numbers;
 - batch (states per second over N states, N = --states, fewer where one output would pass --megabytes):
@@ -288,8 +288,8 @@ def main() -> None:
     ap.add_argument("--megabytes", type=float, default=256.0, help="largest batch output (fewer states)")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--xla-no-fusion", action="store_true",
-                    help="jit the traced graph with XLA's fusion pass off for every function (see the module's "
-                         "docstring)")
+                    help="jit the traced graph with XLA's fusion pass off for every function (see the "
+                         "module's docstring)")
     ap.add_argument("--out", default=results_io.default_path("targets"))
     ap.add_argument("--jax-construction", action="store_true", help=argparse.SUPPRESS)  # jax_processes
     args = ap.parse_args()

@@ -55,8 +55,8 @@ def test_a_vmapped_batch_is_one_c_call(features, monkeypatch):
     p = np.asarray(fj.parameter_vector(PARAMS, "M"))
     M = fj.jax["M"]
     nested = jax.jit(jax.vmap(jax.vmap(M, in_axes=(0, 0, None, None)), in_axes=(0, 0, None, None)))
-    close(nested(Q.reshape(3, 4, -1), U.reshape(3, 4, -1), UD[0], p), f.M(Q, PARAMS).reshape(3, 4, fj.nv, fj.nv),
-          1e-12, "nested vmap")
+    close(nested(Q.reshape(3, 4, -1), U.reshape(3, 4, -1), UD[0], p),
+          f.M(Q, PARAMS).reshape(3, 4, fj.nv, fj.nv), 1e-12, "nested vmap")
     assert calls == [((3, 4, eom.system.nq), (1, 1, len(p)))]
     calls.clear()
     heavier = {**PARAMS, "g": 3.0}
@@ -77,7 +77,8 @@ def test_derivatives_are_the_traced_graphs(features):
     close(dud_du, f.forward_dynamics_derivatives(q, u, params=PARAMS)[1], 1e-9, "jacfwd: ∂u̇/∂u")
     grad = jax.jit(jax.grad(lambda q: fj.M(q, PARAMS)[0, 1]))(q)
     h = 1e-6
-    central = [(f.M(q + h * e, PARAMS)[0, 1] - f.M(q - h * e, PARAMS)[0, 1]) / (2 * h) for e in np.eye(len(q))]
+    central = [(f.M(q + h * e, PARAMS)[0, 1] - f.M(q - h * e, PARAMS)[0, 1]) / (2 * h)
+               for e in np.eye(len(q))]
     close(grad, central, 1e-6, "grad of M[0, 1]")
 
 
@@ -90,7 +91,7 @@ def test_bound_params_float32_nan_and_other_platforms(features):
     f32 = eg.codegen(eom, backend="jax", dtype="float32", params=bound)
     assert f32.kernels == "c" and f32.M(Q).dtype == np.float32  # computed in float64, rounded
     close(f32.M(Q), f.M(Q, PARAMS), 1e-6, "float32")
-    with pytest.raises(jax.errors.JaxRuntimeError, match="q: contains NaN or infinite values"):
+    with pytest.raises((jax.errors.JaxRuntimeError, ValueError), match="q: contains NaN or infinite"):
         np.asarray(fj.M(np.full(fj.nq, np.nan), PARAMS))  # the C kernel checks its inputs
     p = np.asarray(fj.parameter_vector(PARAMS, "M"))
     for platform, callback in (("cpu", True), ("cuda", False)):

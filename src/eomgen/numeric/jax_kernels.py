@@ -8,10 +8,11 @@ function (`printers.c_extension`: N states in one call of its vector batches), c
 Under `jax.vmap` the callback receives the inputs with their batch axes (`vmap_method="expand_dims"`):
 the states' leading axes are broadcast and flattened into ONE batch of the C function; a parameter
 vector not mapped is passed once, mapped ones per group of equal rows. The C functions are compiled on
-the first call on CPU: those printed until then in one module (`Kernels`; as the C backend groups them:
-M, b, g, nle and the frames of derive(frames=...) together, `generate(keys)` together). The C function checks
-its inputs: a NaN or infinite state raises (a JaxRuntimeError naming q, u or ud) where the traced graph
-returns NaN. float32: the kernels compute in float64, their values rounded to float32."""
+the first call on CPU: those printed until then in one module (`Kernels`; as the C backend groups
+them: M, b, g, nle and the frames of derive(frames=...) together, `generate(keys)` together). The C
+function checks its inputs: a NaN or infinite state raises (naming q, u or ud; a ValueError or a
+JaxRuntimeError) where the traced graph returns NaN. float32: the kernels compute in float64, their
+values rounded to float32."""
 from __future__ import annotations
 
 import math
