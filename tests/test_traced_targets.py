@@ -1,7 +1,9 @@
 """The JAX and CasADi targets (`printers.traced`) equal the NumPy functions for every function of the
 catalogue of robots and of the model with every feature (test_catalogue), one state and batches; JAX's
 own derivatives (jacfwd) of its forward dynamics equal forward_dynamics_derivatives, CasADi's jacobian of
-its inverse dynamics equals inverse_dynamics_derivatives (against Pinocchio in test_derivatives)."""
+its inverse dynamics equals inverse_dynamics_derivatives (against Pinocchio in test_derivatives). JAX here
+with kernels="xla" (its traced graph: what runs on a GPU, and the derivatives of kernels="c",
+test_jax_kernels)."""
 from __future__ import annotations
 
 import casadi as ca
@@ -23,7 +25,8 @@ def close(a, b, tol: float, what: str) -> None:
 @pytest.mark.parametrize("constraints", [True, False])
 def test_every_function_equals_numpy(constraints):
     eom = everything(constraints)
-    f, fj, fc = eg.codegen(eom), eg.codegen(eom, backend="jax"), eg.codegen(eom, backend="casadi")
+    f, fc = eg.codegen(eom), eg.codegen(eom, backend="casadi")
+    fj = eg.codegen(eom, backend="jax", kernels="xla")
     q, u, ud = (x[0] for x in eg.random_states(eom.system, 1, np.random.default_rng(5)))
     Q, U, UD = eg.random_states(eom.system, 3, np.random.default_rng(6))
     for fn in members(catalogue(eom)):
@@ -46,7 +49,8 @@ def test_every_function_equals_numpy(constraints):
 def test_robots_their_dynamics_and_derivatives(name):
     system = eg.robots.load(name)
     eom = eg.derive(system)
-    f, fj, fc = eg.codegen(eom), eg.codegen(eom, backend="jax"), eg.codegen(eom, backend="casadi")
+    f, fc = eg.codegen(eom), eg.codegen(eom, backend="casadi")
+    fj = eg.codegen(eom, backend="jax", kernels="xla")
     q, u, ud = (x[0] for x in eg.random_states(system, 1, np.random.default_rng(9)))
     for key in ("M", "b", "g", "nle", "ID", "ID_derivatives", "com", "A_G"):
         close(fj.call(key, q, u, ud), f.call(key, q, u, ud), 1e-12, f"{name} {key}: JAX")
@@ -67,7 +71,7 @@ def test_robots_their_dynamics_and_derivatives(name):
 
 def test_float32_and_refusals():
     eom = everything(False)
-    f32 = eg.codegen(eom, backend="jax", dtype="float32")
+    f32 = eg.codegen(eom, backend="jax", dtype="float32", kernels="xla")
     q, u, _ = (x[0] for x in eg.random_states(eom.system, 1, np.random.default_rng(2)))
     M32 = f32.M(q, PARAMS)
     assert M32.dtype == np.float32

@@ -13,10 +13,13 @@ from .parameters import bind
 BACKENDS = ("numpy", "c", "jax", "casadi")
 
 
-def codegen(eom, backend: str = "numpy", params: Mapping | None = None, dtype: str = "float64"):
+def codegen(eom, backend: str = "numpy", params: Mapping | None = None, dtype: str = "float64",
+            kernels: str | None = None):
     """Numeric functions of an `EquationsOfMotion` (or of `KaneEquations`): backend "numpy", "c"
     (compiled with the machine's C compiler; same functions, per call and batched), "jax" (JAX functions:
-    jit, vmap, grad; `dtype` "float64" or "float32") or "casadi" (CasADi functions on SX, `f.casadi`).
+    jit, vmap, grad; `dtype` "float64" or "float32"; `kernels` "c": on CPU the values from the C
+    backend's compiled kernels, one C call per vmapped batch, the default where a C compiler is found,
+    or "xla": the traced graph on every platform) or "casadi" (CasADi functions on SX, `f.casadi`).
     With `params` ({name: value}, every parameter but the motor currents) the values are bound once and
     the calls take no params."""
     expect_equations(eom, "codegen", KaneEquations)
@@ -25,6 +28,8 @@ def codegen(eom, backend: str = "numpy", params: Mapping | None = None, dtype: s
     if dtype != "float64" and backend != "jax":
         raise ModelError(f"dtype: only the JAX backend computes in {dtype!r}; {backend!r} computes in "
                          "float64")
+    if kernels is not None and backend != "jax":
+        raise ModelError(f"kernels: only the JAX backend chooses its kernels; {backend!r} takes none")
     kane = isinstance(eom, KaneEquations)
     if backend == "c":
         from .compiled import CompiledEoM
@@ -34,7 +39,7 @@ def codegen(eom, backend: str = "numpy", params: Mapping | None = None, dtype: s
         from .jax_functions import JaxEoM
         from .jax_kane import JaxKane
 
-        f = JaxKane(eom, dtype) if kane else JaxEoM(eom, dtype)
+        f = JaxKane(eom, dtype, kernels) if kane else JaxEoM(eom, dtype, kernels)
     elif backend == "casadi":
         from .casadi_functions import CasadiEoM
         from .casadi_kane import CasadiKane

@@ -8,9 +8,12 @@ by `jax.vmap`, and the numeric algorithms in jax.numpy, so that `jax.jit`, `jax.
     rhs:  ẋ = [q̇(q, u), u̇]
 
 float64 by default (JAX's 64-bit mode, `jax_enable_x64`, is switched on when such functions are made);
-float32 with dtype="float32". Inside `jax.jit` no value is checked (NaN, infinities: JAX cannot raise on
-values); shapes are. J in the constrained dynamics holds the rows some motion can violate at three
-random states (`constrained.row_sizes`), fixed when the functions are made."""
+float32 with dtype="float32". On CPU the values come from the C backend's compiled kernels by default
+(kernels="c", `jax_kernels`: one C call per vmapped batch, derivatives from the traced graph);
+kernels="xla" traces the printed graph everywhere. Inside `jax.jit` no value is checked by the graph
+(NaN, infinities: JAX cannot raise on values; the C kernels raise); shapes are. J in the constrained
+dynamics holds the rows some motion can violate at three random states (`constrained.row_sizes`), fixed
+when the functions are made."""
 from __future__ import annotations
 
 import numpy as np
@@ -20,6 +23,7 @@ from ..printers.traced import TRACED, jax_function, refuse_branches
 from ..printers.walker import Generated, writer
 from .constrained import closure_index, row_sizes
 from .equations import NumericEoM
+from .jax_kernels import Kernels, kernel_function, kernels_for
 
 DTYPES = ("float64", "float32")
 FUSION_LIMIT = 1000  # operations: larger functions are compiled without XLA's fusion pass (`_jitted`)
@@ -29,13 +33,15 @@ NO_FUSION = {"xla_disable_hlo_passes": "fusion"}
 class JaxPrinted:
     """Mixed into a facade: its catalogue's functions printed as JAX functions (one state or N along axis
     0; params by name, or bound); `jax[key]` is the function of one state (q, u, ud, p) → array, p the
-    parameter vector."""
+    parameter vector. kernels (`jax_kernels.kernels_for`): "c", its values on CPU from the C backend's
+    kernels, "xla" the traced graph everywhere."""
 
-    def __init__(self, equations, dtype: str = "float64") -> None:
+    def __init__(self, equations, dtype: str = "float64", kernels: str | None = None) -> None:
         import jax
 
         if dtype not in DTYPES:
             raise ModelError(f"dtype: expected one of {list(DTYPES)}, got {dtype!r}")
+        self.kernels = kernels_for(kernels)
         if dtype == "float64":
             jax.config.update("jax_enable_x64", True)
         self.dtype = dtype
@@ -43,12 +49,16 @@ class JaxPrinted:
 
     def _print(self, keys: list[str]) -> None:
         traced = writer(self.catalogue, TRACED)
+        c = vars(self).setdefault("_c", Kernels(self.catalogue))  # compiles nothing until a call on CPU
         for key in keys:
             fn = self.catalogue.printable(key)
             expr = fn.expression()
             refuse_branches(self.catalogue.sub, expr, key, "the JAX backend")
             source, shape, ops = traced.source("f", expr, fn.symmetric)
-            self.functions[key] = Generated(source, shape, ops, jax_function(source, shape, key))
+            function = jax_function(source, shape, key)
+            if self.kernels == "c":
+                function = kernel_function(function, key, shape, c)
+            self.functions[key] = Generated(source, shape, ops, function)
 
     @property
     def jax(self):

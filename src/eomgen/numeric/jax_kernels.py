@@ -1,0 +1,113 @@
+"""The C kernels under JAX: on CPU, a catalogue function's values come from the C backend's compiled
+function (`printers.c_extension`: N states in one call of its vector batches), called from JAX by
+`jax.pure_callback`; its derivatives are those of the traced graph (`printers.traced`):
+
+    f(x) = C(x) on CPU, traced(x) on any other platform   (`jax.lax.platform_dependent`, at lowering)
+    jvp:  (f(x), ∂f(x)·ẋ) = jax.jvp(traced, x, ẋ)          (so jit, vmap, jacfwd and grad go through)
+
+Under `jax.vmap` the callback receives the inputs with their batch axes (`vmap_method="expand_dims"`):
+the states' leading axes are broadcast and flattened into ONE batch of the C function; a parameter
+vector not mapped is passed once, mapped ones per group of equal rows. The C functions are compiled on
+the first call on CPU: those printed until then in one module (`Kernels`; as the C backend groups
+them: M, b, g, nle and the frames of derive(frames=...) together, `generate(keys)` together). The C
+function checks its inputs: a NaN or infinite state raises (naming q, u or ud; a ValueError or a
+JaxRuntimeError) where the traced graph returns NaN. float32: the kernels compute in float64, their
+values rounded to float32."""
+from __future__ import annotations
+
+import math
+import threading
+
+import numpy as np
+
+from ..errors import ModelError
+from ..functions import Catalogue
+from ..printers.build.extension import compiler, python_headers
+from ..printers.c_extension import ExtensionPrinter
+
+KERNELS = ("c", "xla")
+
+
+def kernels_for(kernels: str | None) -> str:
+    """The kernels asked for, checked: "c" or "xla"; None: "c" where a C compiler and Python's headers are
+    found (as the C backend finds them), else "xla"; "c" without them a ModelError saying what is
+    missing."""
+    if kernels is not None and kernels not in KERNELS:
+        raise ModelError(f"kernels: expected one of {list(KERNELS)} or None, got {kernels!r}")
+    if kernels == "xla":
+        return kernels
+    try:
+        compiler(), python_headers()
+    except ModelError as missing:
+        if kernels == "c":
+            raise ModelError(f"kernels='c': {missing}; kernels='xla' computes without them") from None
+        return "xla"
+    return "c"
+
+
+class Kernels:
+    """The C functions of a catalogue, compiled on the first call of one of them: every function added
+    until then in one extension module (with vector batches), once (threads wait on a lock)."""
+
+    def __init__(self, catalogue: Catalogue) -> None:
+        self.catalogue = catalogue
+        self.pending: list[str] = []
+        self.compiled: dict = {}
+        self._lock = threading.Lock()
+
+    def add(self, key: str) -> None:
+        with self._lock:
+            if key not in self.compiled and key not in self.pending:
+                self.pending.append(key)
+
+    def function(self, key: str):
+        """The compiled function `key`: (q, u, ud, p, out) → its matrix, one state or N."""
+        with self._lock:
+            if key not in self.compiled:
+                keys = list(dict.fromkeys([*self.pending, key]))
+                self.compiled.update(ExtensionPrinter(self.catalogue).print(keys))
+                self.pending = []
+            return self.compiled[key].function
+
+
+def evaluate(c, shape: tuple[int, int], q, u, ud, p) -> np.ndarray:
+    """C function `c` at states q, u, ud with leading batch axes (broadcast and flattened into one
+    batch), p shared by all states or per state (one call per distinct row)."""
+    q, u, ud, p = (np.asarray(x, np.float64) for x in (q, u, ud, p))
+    lead = np.broadcast_shapes(*(x.shape[:-1] for x in (q, u, ud, p)))
+    if not lead:
+        return c(q, u, ud, p if p.size else None, None)
+    q, u, ud = (np.broadcast_to(x, lead + x.shape[-1:]).reshape(-1, x.shape[-1]) for x in (q, u, ud))
+    if math.prod(p.shape[:-1]) == 1:
+        return c(q, u, ud, p.reshape(-1) if p.size else None, None).reshape(lead + shape)
+    rows, group = np.unique(np.broadcast_to(p, lead + p.shape[-1:]).reshape(-1, p.shape[-1]), axis=0,
+                            return_inverse=True)
+    group = group.ravel()
+    out = np.empty((len(group), *shape))
+    for k, row in enumerate(rows):
+        at = group == k
+        out[at] = c(q[at], u[at], ud[at], row, None)
+    return out.reshape(lead + shape)
+
+
+def kernel_function(traced, key: str, shape: tuple[int, int], kernels: Kernels):
+    """`traced` (q, u, ud, p) → array of `shape`, with its values from the C function `key` on CPU (module
+    doc), jitted (its first call compiles the branch of the platform only)."""
+    import jax
+
+    kernels.add(key)
+
+    def on_cpu(q, u, ud, p):
+        result = jax.ShapeDtypeStruct(shape, q.dtype)
+
+        def host(*args):
+            return evaluate(kernels.function(key), shape, *args).astype(result.dtype, copy=False)
+        return jax.pure_callback(host, result, q, u, ud, p, vmap_method="expand_dims")
+
+    @jax.custom_jvp
+    def f(q, u, ud, p):
+        return jax.lax.platform_dependent(q, u, ud, p, cpu=on_cpu, default=traced)
+
+    # the tangent needs the traced graph's intermediates: its primal comes with them at no extra cost
+    f.defjvp(lambda primals, tangents: jax.jvp(traced, primals, tangents))
+    return jax.jit(f)

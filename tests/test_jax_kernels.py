@@ -1,0 +1,112 @@
+"""kernels="c" (`numeric.jax_kernels`): the JAX functions' values on CPU come from the C backend's compiled
+kernels, one C call per vmapped batch, their derivatives from the traced graph. The same checks as
+test_traced_targets for the traced graph: every catalogue entry equals NumPy to 1e-12 (one state, jit,
+vmap), jacfwd of the forward dynamics equals forward_dynamics_derivatives to 1e-9; grad of M against a
+central difference of NumPy's M; on any other platform the traced graph (lowered for CUDA: no callback)."""
+from __future__ import annotations
+
+import jax
+import numpy as np
+import pytest
+
+import eomgen as eg
+from eomgen.functions import catalogue
+from eomgen.numeric import jax_kernels
+from test_catalogue import PARAMS, everything, members, public_call
+from test_traced_targets import close
+
+
+@pytest.fixture(scope="module")
+def features():
+    """(the every-feature model without constraints, its NumPy functions, its JAX functions with the C
+    kernels, every entry printed: one C module)."""
+    eom = everything(False)
+    fj = eg.codegen(eom, backend="jax", kernels="c")
+    fj.generate([fn.key for fn in members(catalogue(eom)) if not fn.composite])
+    return eom, eg.codegen(eom), fj
+
+
+def test_every_entry_equals_numpy_one_state_jit_and_vmap(features):
+    eom, f, fj = features
+    q, u, ud = (x[0] for x in eg.random_states(eom.system, 1, np.random.default_rng(5)))
+    Q, U, UD = eg.random_states(eom.system, 3, np.random.default_rng(6))
+    for fn in members(catalogue(eom)):
+        if fn.composite:
+            close(public_call(fj, fn, q, u, ud, PARAMS), public_call(f, fn, q, u, ud, PARAMS), 1e-12, fn.key)
+            continue
+        reference = f.call(fn.key, q, u, ud, PARAMS)
+        close(fj.call(fn.key, q, u, ud, PARAMS), reference, 1e-12, f"{fn.key}: one state (jitted)")
+        close(fj.call(fn.key, Q, U, UD, PARAMS), f.call(fn.key, Q, U, UD, PARAMS), 1e-12, f"{fn.key}: vmap")
+    assert set(fj._c.compiled) == {fn.key for fn in members(catalogue(eom)) if not fn.composite}
+
+
+def test_a_vmapped_batch_is_one_c_call(features, monkeypatch):
+    """vmap and nested vmaps reach the C function as one batch (the leading axes flattened), a shared p
+    once; parameters mapped per state: the batch too, each state with its own."""
+    eom, f, fj = features
+    calls = []
+
+    def counted(c, shape, q, u, ud, p):
+        calls.append((np.shape(q), np.shape(p)))
+        return evaluate(c, shape, q, u, ud, p)
+    evaluate = jax_kernels.evaluate
+    monkeypatch.setattr(jax_kernels, "evaluate", counted)
+    Q, U, UD = eg.random_states(eom.system, 12, np.random.default_rng(3))
+    p = np.asarray(fj.parameter_vector(PARAMS, "M"))
+    M = fj.jax["M"]
+    nested = jax.jit(jax.vmap(jax.vmap(M, in_axes=(0, 0, None, None)), in_axes=(0, 0, None, None)))
+    close(nested(Q.reshape(3, 4, -1), U.reshape(3, 4, -1), UD[0], p),
+          f.M(Q, PARAMS).reshape(3, 4, fj.nv, fj.nv), 1e-12, "nested vmap")
+    assert calls == [((3, 4, eom.system.nq), (1, 1, len(p)))]
+    calls.clear()
+    heavier = {**PARAMS, "g": 3.0}
+    p = fj.parameter_vector(PARAMS, "g")
+    P = np.array([p, fj.parameter_vector(heavier, "g"), p, p])
+    G = np.asarray(jax.vmap(fj.jax["g"])(Q[:4], U[:4], UD[:4], P))
+    close(G[[0, 2, 3]], f.call("g", Q[[0, 2, 3]], params=PARAMS), 1e-12, "vmap over p")
+    close(G[1], f.call("g", Q[1], params=heavier), 1e-12, "vmap over p")
+    assert calls == [((4, eom.system.nq), (4, len(p)))]
+
+
+def test_derivatives_are_the_traced_graphs(features):
+    eom, f, fj = features
+    q, u, _ = (x[0] for x in eg.random_states(eom.system, 1, np.random.default_rng(9)))
+    forward = jax.jit(lambda u: fj.forward_dynamics(q, u, params=PARAMS))
+    close(forward(u), f.forward_dynamics(q, u, params=PARAMS), 1e-12, "forward dynamics")
+    dud_du = jax.jit(jax.jacfwd(forward))(u)
+    close(dud_du, f.forward_dynamics_derivatives(q, u, params=PARAMS)[1], 1e-9, "jacfwd: ∂u̇/∂u")
+    grad = jax.jit(jax.grad(lambda q: fj.M(q, PARAMS)[0, 1]))(q)
+    h = 1e-6
+    central = [(f.M(q + h * e, PARAMS)[0, 1] - f.M(q - h * e, PARAMS)[0, 1]) / (2 * h)
+               for e in np.eye(len(q))]
+    close(grad, central, 1e-6, "grad of M[0, 1]")
+
+
+def test_bound_params_float32_nan_and_other_platforms(features):
+    eom, f, fj = features
+    Q, U, _ = eg.random_states(eom.system, 4, np.random.default_rng(1))
+    bound = {k: v for k, v in PARAMS.items() if k != "i_m"}  # the motor current is state
+    close(fj.bind(bound).M(Q), f.M(Q, PARAMS), 1e-12, "bind")
+    close(eg.codegen(eom, backend="jax", params=bound).M(Q[0]), f.M(Q[0], PARAMS), 1e-12, "params=")
+    f32 = eg.codegen(eom, backend="jax", dtype="float32", params=bound)
+    assert f32.kernels == "c" and f32.M(Q).dtype == np.float32  # computed in float64, rounded
+    close(f32.M(Q), f.M(Q, PARAMS), 1e-6, "float32")
+    with pytest.raises((jax.errors.JaxRuntimeError, ValueError), match="q: contains NaN or infinite"):
+        np.asarray(fj.M(np.full(fj.nq, np.nan), PARAMS))  # the C kernel checks its inputs
+    p = np.asarray(fj.parameter_vector(PARAMS, "M"))
+    for platform, callback in (("cpu", True), ("cuda", False)):
+        lowered = jax.jit(fj.jax["M"]).trace(Q[0], U[0], U[0], p).lower(lowering_platforms=(platform,))
+        assert ("callback" in lowered.as_text()) == callback, platform
+
+
+def test_the_default_and_refusals(monkeypatch):
+    eom = everything(False)
+    assert eg.codegen(eom, backend="jax").kernels == "c"  # a C compiler here
+    with pytest.raises(eg.ModelError, match="kernels: expected one of"):
+        eg.codegen(eom, backend="jax", kernels="cuda")
+    with pytest.raises(eg.ModelError, match="kernels: only the JAX backend"):
+        eg.codegen(eom, backend="c", kernels="c")
+    monkeypatch.setenv("CC", "no-such-compiler")
+    assert eg.codegen(eom, backend="jax").kernels == "xla"
+    with pytest.raises(eg.ModelError, match="kernels='c': no C compiler found"):
+        eg.codegen(eom, backend="jax", kernels="c")
