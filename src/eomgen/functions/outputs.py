@@ -111,14 +111,18 @@ def dynamics(eom: EquationsOfMotion, missing: dict) -> list[Function]:
 
 def regressor(eom: EquationsOfMotion, missing: dict) -> list[Function]:
     """The full joint-torque regressor Y (τ_ID = Y π; columns: `eg.regressor(eom).names` with the
-    default options), where every joint is rigid."""
+    default options) and the energies' rows, where every joint is rigid."""
     system, nv = eom.system, len(eom.u)
     if unavailable(system):
-        missing["Y"] = unavailable(system)
+        missing.update(dict.fromkeys(("Y", "Y_T", "Y_U"), unavailable(system)))
         return []
-    columns = 10 * len(links(system)) + 4 * len(speeds(system))
+    p = 10 * len(links(system)) + 4 * len(speeds(system))
     return [Function("Y", "regressor", "the joint-torque regressor Y(q, u, u̇) (NV x P): τ_ID = Y π, π as "
-                     "eg.regressor(eom).pi", "q, u, ud", (nv, columns), lambda: full_regressor(eom).Y)]
+                     "eg.regressor(eom).pi", "q, u, ud", (nv, p), lambda: full_regressor(eom).Y),
+            Function("Y_T", "kinetic_energy_regressor", "the kinetic energy's row (1 x P): T = Y_T π", "q, u",
+                     (1, p), lambda: full_regressor(eom).T),
+            Function("Y_U", "potential_energy_regressor", "gravity's potential energy's row (1 x P): "
+                     "U = Y_U π", "q", (1, p), lambda: full_regressor(eom).U)]
 
 
 def qdot(eom: EquationsOfMotion) -> Function:
