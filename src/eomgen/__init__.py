@@ -29,11 +29,13 @@ from .tradeoff import tradeoff
 from .verify import verify
 
 __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed", "FlexibleLink", "FreeFlyer", "Helical",
-           "Kinematics", "Linearization", "ModelError", "Placement", "Planar", "Prismatic", "Regressor", "Revolute",
+           "Kinematics", "Linearization", "ModelError", "Placement", "Planar", "Prismatic",
+           "Regressor", "Revolute",
            "Solution", "Spherical", "Step",
            "System", "Translation", "Universal", "assemble", "check_answer", "codegen",
            "derive", "from_dh", "from_mjcf",
-           "from_urdf", "integrate", "kane", "linearize", "project", "quiet", "random_states", "reduce", "regressor",
+           "from_urdf", "integrate", "kane", "linearize", "project", "quiet", "random_states", "reduce",
+           "regressor",
            "robots",
            "difference", "simplified", "simulate", "sweep", "plot", "animate", "solution",
            "tradeoff", "verify", "view", "View", "write_c", "write_module"]

@@ -53,7 +53,8 @@ def regressor(system_or_eom, friction=tuple(FRICTION), armature: bool = True) ->
     if not isinstance(eom, EquationsOfMotion):
         raise ModelError(f"regressor: expected a System or EquationsOfMotion, got {type(eom).__name__}")
     kinds = (friction,) if isinstance(friction, str) else friction
-    if not isinstance(kinds, (tuple, list)) or not set(kinds) <= set(FRICTION) or len(set(kinds)) < len(kinds):
+    known = isinstance(kinds, (tuple, list)) and all(isinstance(k, str) and k in FRICTION for k in kinds)
+    if not known or len(set(kinds)) < len(kinds):
         raise ModelError(f"regressor: friction must be a subset of {tuple(FRICTION)}, got {friction!r}")
     if not isinstance(armature, bool):
         raise ModelError(f"regressor: armature must be True or False, got {armature!r}")
@@ -98,7 +99,9 @@ def unavailable(system: System) -> str | None:
     """Why the system has no regressor (a flexible link, whose bending is no rigid body's 10 parameters),
     or None."""
     flexible = [j.name for j in system.joints if isinstance(j, FlexibleLink)]
-    return f"regressor: flexible link {flexible[0]!r} is not a rigid body with 10 parameters" if flexible else None
+    if flexible:
+        return f"regressor: flexible link {flexible[0]!r} is not a rigid body with 10 parameters"
+    return None
 
 
 def _derive(eom: EquationsOfMotion) -> Regressor:
@@ -126,8 +129,8 @@ def _derive(eom: EquationsOfMotion) -> Regressor:
     joint_speeds = speeds(system)
     flying = [i for i in rotor if rotor[i] != 0 and i not in dict(joint_speeds)]
     if flying:
-        raise ModelError(f"regressor: the floating base's speed {system.u[flying[0]]} has armature, which has "
-                         "no column")
+        raise ModelError(f"regressor: the floating base's speed {system.u[flying[0]]} has armature, "
+                         "which has no column")
     for i, name in joint_speeds:
         Y.append(_at(n, i, system.ud[i]))
         T.append(kin.u[i] ** 2 / 2)
