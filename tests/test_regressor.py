@@ -179,3 +179,7 @@ def test_refusals_name_the_argument():
     flexible.add_body("beam", joint=eg.FlexibleLink("beam", 1.0, 1.0, 10.0), mass=0)
     with pytest.raises(eg.ModelError, match="flexible link 'beam'"):
         eg.regressor(flexible)
+    f = eg.codegen(eg.derive(flexible))
+    with pytest.raises(eg.ModelError, match="flexible link 'beam'"):
+        f.regressor(np.zeros(f.nq), np.zeros(f.nv), np.zeros(f.nv))
+    assert f.inverse_dynamics(np.zeros(f.nq), np.zeros(f.nv), np.ones(f.nv)).shape == (f.nv,)

@@ -20,7 +20,7 @@ import sympy as sp
 
 from .eom import EquationsOfMotion
 from .errors import ModelError
-from .linalg import cross, dot, matmul, scale
+from .linalg import cross, dot, matmul
 from .methods import derive
 from .methods.applied import armature
 from .methods.recursive import Recursion, about_origin, moved
@@ -95,7 +95,7 @@ def speeds(system: System) -> list[tuple[int, str]]:
     return out
 
 
-def unavailable(system: System) -> str | None:
+def missing_reason(system: System) -> str | None:
     """Why the system has no regressor (a flexible link, whose bending is no rigid body's 10 parameters),
     or None."""
     flexible = [j.name for j in system.joints if isinstance(j, FlexibleLink)]
@@ -106,8 +106,8 @@ def unavailable(system: System) -> str | None:
 
 def _derive(eom: EquationsOfMotion) -> Regressor:
     system, kin = eom.system, eom.kinematics
-    if unavailable(system):
-        raise ModelError(unavailable(system))
+    if missing_reason(system):
+        raise ModelError(missing_reason(system))
     rec, n, sub = Recursion(kin), kin.n, kin.sub
     motion = rec.motions(kin.u, list(system.ud), system.gravity)
     Y, T, U, pi, names = [], [], [], [], []

@@ -13,7 +13,7 @@ from ..constraint_rows import tilts
 from ..eom import EquationsOfMotion
 from ..errors import ModelError, unknown
 from ..inverse_dynamics import available, dynamics_jacobian, inverse_dynamics, unavailable
-from ..regressor import full_regressor, links, speeds, unavailable
+from ..regressor import full_regressor, links, missing_reason, speeds
 from .catalogue import Family, Function
 from .expressions import (centres, closure_frames, forward_parts, lengths, line_loads, nonconservative,
                           placement)
@@ -113,8 +113,8 @@ def regressor(eom: EquationsOfMotion, missing: dict) -> list[Function]:
     """The full joint-torque regressor Y (τ_ID = Y π; columns: `eg.regressor(eom).names` with the
     default options) and the energies' rows, where every joint is rigid."""
     system, nv = eom.system, len(eom.u)
-    if unavailable(system):
-        missing.update(dict.fromkeys(("Y", "Y_T", "Y_U"), unavailable(system)))
+    if missing_reason(system):
+        missing.update(dict.fromkeys(("Y", "Y_T", "Y_U"), missing_reason(system)))
         return []
     p = 10 * len(links(system)) + 4 * len(speeds(system))
     return [Function("Y", "regressor", "the joint-torque regressor Y(q, u, u̇) (NV x P): τ_ID = Y π, π as "
