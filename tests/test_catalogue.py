@@ -102,8 +102,8 @@ def c_call(lib, name: str, fn, q, u, ud, p) -> np.ndarray:
     return out
 
 
-EXPECTED = {"M", "b", "g", "tau", "T", "U", "qdot", "com", "J_com", "A_G", "ID", "ID_derivatives", "J",
-            "Jdot_u", "X", "W", "R"}
+EXPECTED = {"M", "b", "g", "tau", "T", "U", "qdot", "com", "J_com", "A_G", "ID", "ID_derivatives", "Y", "Y_T",
+            "Y_U", "J", "Jdot_u", "X", "W", "R"}
 
 
 @pytest.mark.parametrize("constraints, offered", [(True, {"J_c", "Jdot_c_u", "closure"}),

@@ -16,6 +16,7 @@ from .model import (Cylindrical, DHLink, Fixed, FlexibleLink, FreeFlyer, Helical
                     Revolute, Spherical, System, Translation, Universal, from_dh, from_mjcf, from_urdf,
                     robots)
 from .progress import quiet
+from .regressor import Regressor, regressor
 from .simplification import simplified
 from .worked import Solution, Step, solution
 from .state import difference, integrate, random_states
@@ -28,11 +29,13 @@ from .tradeoff import tradeoff
 from .verify import verify
 
 __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed", "FlexibleLink", "FreeFlyer", "Helical",
-           "Kinematics", "Linearization", "ModelError", "Placement", "Planar", "Prismatic", "Revolute",
+           "Kinematics", "Linearization", "ModelError", "Placement", "Planar", "Prismatic",
+           "Regressor", "Revolute",
            "Solution", "Spherical", "Step",
            "System", "Translation", "Universal", "assemble", "check_answer", "codegen",
            "derive", "from_dh", "from_mjcf",
            "from_urdf", "integrate", "kane", "linearize", "project", "quiet", "random_states", "reduce",
+           "regressor",
            "robots",
            "difference", "simplified", "simulate", "sweep", "plot", "animate", "solution",
            "tradeoff", "verify", "view", "View", "write_c", "write_module"]

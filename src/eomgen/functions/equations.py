@@ -28,7 +28,8 @@ def catalogue(eom: EquationsOfMotion) -> Catalogue:
         missing = {k: f"{k} was not derived: derive it (quantities=...) to evaluate it"
                    for k in ("M", "b", "g", "T", "U") if k not in eom.compact}
         functions = [*quantities(eom), *outputs.centroidal(eom, missing), *outputs.constraints(eom, missing),
-                     *outputs.dynamics(eom, missing), outputs.qdot(eom), *outputs.blocks(eom)]
+                     *outputs.dynamics(eom, missing),
+                     *outputs.regressor(eom, missing), outputs.qdot(eom), *outputs.blocks(eom)]
         system = eom.system
         inputs = {"q": list(eom.q), "u": list(eom.u), "ud": list(system.ud),
                   "p": sorted_parameters(system.parameters)}

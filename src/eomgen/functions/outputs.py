@@ -13,6 +13,7 @@ from ..constraint_rows import tilts
 from ..eom import EquationsOfMotion
 from ..errors import ModelError, unknown
 from ..inverse_dynamics import available, dynamics_jacobian, inverse_dynamics, unavailable
+from ..regressor import full_regressor, links, missing_reason, speeds
 from .catalogue import Family, Function
 from .expressions import (centres, closure_frames, forward_parts, lengths, line_loads, nonconservative,
                           placement)
@@ -106,6 +107,22 @@ def dynamics(eom: EquationsOfMotion, missing: dict) -> list[Function]:
         Function("FD_derivatives", "forward_dynamics_derivatives", "[∂u̇/∂q | ∂u̇/∂u | ∂u̇/∂τ] of the "
                  "forward dynamics M u̇ = τ + τ_loads − b − g at q, u, τ (NV joint efforts)", "q, u, tau",
                  (nv, 3 * nv), None, "columns", parts=("FD_parts", forward_key(eom)))]
+
+
+def regressor(eom: EquationsOfMotion, missing: dict) -> list[Function]:
+    """The full joint-torque regressor Y (τ_ID = Y π; columns: `eg.regressor(eom).names` with the
+    default options) and the energies' rows, where every joint is rigid."""
+    system, nv = eom.system, len(eom.u)
+    if missing_reason(system):
+        missing.update(dict.fromkeys(("Y", "Y_T", "Y_U"), missing_reason(system)))
+        return []
+    p = 10 * len(links(system)) + 4 * len(speeds(system))
+    return [Function("Y", "regressor", "the joint-torque regressor Y(q, u, u̇) (NV x P): τ_ID = Y π, π as "
+                     "eg.regressor(eom).pi", "q, u, ud", (nv, p), lambda: full_regressor(eom).Y),
+            Function("Y_T", "kinetic_energy_regressor", "the kinetic energy's row (1 x P): T = Y_T π", "q, u",
+                     (1, p), lambda: full_regressor(eom).T),
+            Function("Y_U", "potential_energy_regressor", "gravity's potential energy's row (1 x P): "
+                     "U = Y_U π", "q", (1, p), lambda: full_regressor(eom).U)]
 
 
 def qdot(eom: EquationsOfMotion) -> Function:

@@ -70,16 +70,22 @@ class Recursion:
         a = a + sum((scale(ud[i], v) for i, v, _ in self.S[b]), zero)
         return sub.add_matrix(w), sub.add_matrix(al), sub.add_matrix(a)
 
+    def motions(self, u, ud, gravity: sp.Matrix) -> dict:
+        """(Ω, α, a) of every body in its own axes, parents first, the base accelerating with −g⃗."""
+        zero, motion = sp.zeros(3, 1), {}
+        for b in self.bodies:
+            parent = (zero, zero, -gravity) if b.parent is None else motion[b.parent]
+            motion[b] = self._motion(b, parent, u, ud)
+        return motion
+
     def rnea(self, u, ud, gravity: sp.Matrix, loads: bool = False) -> sp.Matrix:
         """τ_k = v_k · F_i + ω_k · N_i of the pass with speeds u, accelerations ud and gravity g⃗; with
         `loads` less their generalized forces: each force F at r and torque T on body i (world axes,
         `applied_wrenches`) taken off its balance, f_i −= Rᵀ F, n_i −= r × Rᵀ F + Rᵀ T (R the body's rotation
         in the world, r in body axes)."""
-        sub, zero = self.sub, sp.zeros(3, 1)
-        motion, F, N = {}, {}, {}
-        for b in self.bodies:
-            parent = (zero, zero, -gravity) if b.parent is None else motion[b.parent]
-            motion[b] = w, al, a = self._motion(b, parent, u, ud)
+        sub = self.sub
+        F, N = {}, {}
+        for b, (w, al, a) in self.motions(u, ud, gravity).items():
             c = b.com
             a_S = a + cross(al, c) + cross(w, sub.add_matrix(cross(w, c)))
             f = sub.add_matrix(scale(b.mass, a_S))
@@ -107,18 +113,10 @@ class Recursion:
         sub, S = self.sub, self.S
         comp = {}
         for b in reversed(self.bodies):
-            m, c = b.mass, b.com
-            h = scale(m, c)
-            I_O = b.inertia + scale(m, dot(c, c) * sp.eye(3) - matmul(c, c.T))
+            m, h, I_O = about_origin(b)
             for ch in self.children[b]:
-                m_c, h_c, I_c = comp[ch]
-                R, t = self.X[ch]
-                Rh = sub.add_matrix(matmul(R, h_c))
-                m = m + m_c
-                h = h + Rh + scale(m_c, t)
-                RI = sub.add_matrix(matmul(R, I_c))
-                I_O = (I_O + matmul(RI, R.T) + scale(m_c, dot(t, t) * sp.eye(3) - matmul(t, t.T))
-                       + 2 * dot(t, Rh) * sp.eye(3) - matmul(t, Rh.T) - matmul(Rh, t.T))
+                m_c, h_c, I_c = moved(comp[ch], *self.X[ch], sub.add_matrix)
+                m, h, I_O = m + m_c, h + h_c, I_O + I_c
             comp[b] = (sub.add(m), sub.add_matrix(h), _symmetric(sub, I_O))
         M, down = sp.zeros(self.n, self.n), self._meetings()
         for b in self.bodies:
@@ -216,6 +214,23 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "recursive", compact)
+
+
+def about_origin(body) -> tuple:
+    """(m, h = m c, I_O = I_c + m (cᵀc 1 − c cᵀ)) of a body about its frame's origin, in its axes."""
+    m, c = body.mass, body.com
+    return m, scale(m, c), body.inertia + scale(m, dot(c, c) * sp.eye(3) - matmul(c, c.T))
+
+
+def moved(inertia: tuple, R: sp.Matrix, t: sp.Matrix, name=lambda x: x) -> tuple:
+    """(m, h, I_O) of a body in the axes of a frame where x = R x_body + t:
+    h' = R h + m t,  I_O' = R I_O Rᵀ + m (|t|² 1 − t tᵀ) + 2 (t · R h) 1 − t (R h)ᵀ − (R h) tᵀ;
+    `name` names R h and R I_O (the recursion's intermediates)."""
+    m, h, I_O = inertia
+    Rh = name(matmul(R, h))
+    RI = name(matmul(R, I_O))
+    return (m, Rh + scale(m, t), matmul(RI, R.T) + scale(m, dot(t, t) * sp.eye(3) - matmul(t, t.T))
+            + 2 * dot(t, Rh) * sp.eye(3) - matmul(t, Rh.T) - matmul(Rh, t.T))
 
 
 def _transform(kin: Kinematics, body) -> tuple[sp.Matrix, sp.Matrix]:

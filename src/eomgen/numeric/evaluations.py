@@ -105,6 +105,19 @@ class Evaluations(Functions):
         D = self.call("ID_derivatives", q, u, ud, params)
         return D[..., : self._nu], D[..., self._nu :]
 
+    def regressor(self, q, u, ud, params=None) -> np.ndarray:
+        """Y (nv × p per state), τ_ID = Y π with π and its names from `eg.regressor(eom)`: 10 per link
+        (Pinocchio's `computeJointTorqueRegressor`), then armature and friction per joint speed."""
+        return self.call("Y", q, u, ud, params)
+
+    def kinetic_energy_regressor(self, q, u, params=None) -> np.ndarray:
+        """The row (1 × p) with T = row π (Pinocchio's `computeKineticEnergyRegressor`, and armature)."""
+        return self.call("Y_T", q, u, params=params)
+
+    def potential_energy_regressor(self, q, params=None) -> np.ndarray:
+        """The row (1 × p) with U = row π of gravity (Pinocchio's `computePotentialEnergyRegressor`)."""
+        return self.call("Y_U", q, params=params)
+
     def joint_wrench(self, joint: str, q, u, ud, params=None) -> tuple[np.ndarray, np.ndarray]:
         """(F, T) the parent exerts on the body of `joint` at the joint origin, world axes (free cut)."""
         W = self.call(f"W:{joint}", q, u, ud, params)[..., 0]
