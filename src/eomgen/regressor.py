@@ -28,14 +28,15 @@ from .model import FlexibleLink, FreeFlyer, Point, System
 
 INERTIAL = ("m", "mx", "my", "mz", "I_xx", "I_xy", "I_yy", "I_xz", "I_yz", "I_zz")
 FRICTION = {"viscous": "Fv", "coulomb": "Fc", "offset": "Fo"}
-_UNIT = [(0, 0), (0, 1), (1, 1), (0, 2), (1, 2), (2, 2)]  # the entries of I_O, Pinocchio's order
+UNIT = [(0, 0), (0, 1), (1, 1), (0, 2), (1, 2), (2, 2)]  # the entries of I_O, Pinocchio's order
 _full: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 @dataclass(frozen=True, eq=False)
 class Regressor:
     """τ_ID = Y π (Y: nv × p in q, u, u̇ and the equations' intermediates), T = T π and U = U π (1 × p);
-    `names` of π's entries, and the `columns` these are of the full regressor `f.regressor` prints."""
+    `names` of π's entries, the `columns` these are of the full regressor `f.regressor` prints, and the
+    `equations` it is of."""
 
     Y: sp.Matrix
     pi: sp.Matrix
@@ -43,6 +44,7 @@ class Regressor:
     T: sp.Matrix
     U: sp.Matrix
     columns: tuple[int, ...]
+    equations: EquationsOfMotion
 
 
 def regressor(system_or_eom, friction=tuple(FRICTION), armature: bool = True) -> Regressor:
@@ -62,14 +64,14 @@ def regressor(system_or_eom, friction=tuple(FRICTION), armature: bool = True) ->
     left_out = {"Ia", *FRICTION.values()} - {FRICTION[k] for k in kinds} - ({"Ia"} if armature else set())
     columns = tuple(i for i, name in enumerate(full.names) if name.split("_")[0] not in left_out)
     return Regressor(full.Y[:, columns], full.pi[columns, :], tuple(full.names[i] for i in columns),
-                     full.T[:, columns], full.U[:, columns], columns)
+                     full.T[:, columns], full.U[:, columns], columns, eom)
 
 
 def full_regressor(eom: EquationsOfMotion) -> Regressor:
     """Every column: 10 per link, armature and the three friction kinds per joint speed (built once)."""
     if eom not in _full:
         _full[eom] = _derive(eom)
-    return _full[eom]
+    return Regressor(*_full[eom], eom)
 
 
 def links(system: System) -> dict:
@@ -104,7 +106,8 @@ def missing_reason(system: System) -> str | None:
     return None
 
 
-def _derive(eom: EquationsOfMotion) -> Regressor:
+def _derive(eom: EquationsOfMotion) -> tuple:
+    """(Y, π, names, T, U, columns) of every column (module formulas)."""
     system, kin = eom.system, eom.kinematics
     if missing_reason(system):
         raise ModelError(missing_reason(system))
@@ -118,7 +121,7 @@ def _derive(eom: EquationsOfMotion) -> Regressor:
         R = kin.R[link]
         v = sub.add_matrix(matmul(R.T, kin.velocity(Point(link, sp.zeros(3, 1)))))
         omega = sub.add_matrix(matmul(R.T, kin.omega(link)))
-        T += [dot(v, v) / 2, *cross(v, omega), *(_quadratic(omega, j, k) for j, k in _UNIT)]
+        T += [dot(v, v) / 2, *cross(v, omega), *(_quadratic(omega, j, k) for j, k in UNIT)]
         g_link = sub.add_matrix(matmul(R.T, system.gravity))
         U += [-dot(system.gravity, kin.p[link]), *(-g_link), *[0] * 6]
         pi += _parameters(link, welded)
@@ -143,7 +146,7 @@ def _derive(eom: EquationsOfMotion) -> Regressor:
             names.append(f"{prefix}_{name}")
         T, U, pi = T + [0] * 3, U + [0] * 3, pi + [0] * 3
     full = sp.Matrix.hstack(*Y) if Y else sp.zeros(n, 0)
-    return Regressor(full, sp.Matrix(pi), tuple(names), sp.Matrix([T]), sp.Matrix([U]), tuple(range(len(pi))))
+    return full, sp.Matrix(pi), tuple(names), sp.Matrix([T]), sp.Matrix([U]), tuple(range(len(pi)))
 
 
 def _wrenches(w: sp.Matrix, al: sp.Matrix, a: sp.Matrix) -> list[tuple[sp.Matrix, sp.Matrix]]:
@@ -155,7 +158,7 @@ def _wrenches(w: sp.Matrix, al: sp.Matrix, a: sp.Matrix) -> list[tuple[sp.Matrix
         e = sp.zeros(3, 1)
         e[k] = 1
         out.append((cross(al, e) + cross(w, cross(w, e)), cross(e, a)))
-    for j, k in _UNIT:
+    for j, k in UNIT:
         E = sp.zeros(3, 3)
         E[j, k] = E[k, j] = 1
         out.append((zero, matmul(E, al) + cross(w, matmul(E, w))))
@@ -192,7 +195,7 @@ def _parameters(link, welded: list) -> list[sp.Expr]:
             part = part.parent
         m_b, h_b, I_b = moved(about_origin(body), R, t)
         m, h, I_O = m + m_b, h + h_b, I_O + I_b
-    return [m, *h, *(I_O[j, k] for j, k in _UNIT)]
+    return [m, *h, *(I_O[j, k] for j, k in UNIT)]
 
 
 def _quadratic(w: sp.Matrix, j: int, k: int) -> sp.Expr:

@@ -31,31 +31,22 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from ..methods.recursive import moved
 from ..model.joints import Fixed, Prismatic, Revolute
-from ..model.system import System
+from ..regressor import INERTIAL, UNIT, Regressor, links, speeds
 
-NAMES = ("m", "mx", "my", "mz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz")  # Pinocchio's order
-INERTIA = {(0, 0): 4, (0, 1): 5, (1, 1): 6, (0, 2): 7, (1, 2): 8, (2, 2): 9}
-
-
-def body_parameters(body) -> list[sp.Expr]:
-    """π_j = (m, m c, I_O) of a body, I_O = I_c + m (cᵀc 1 − c cᵀ), in Pinocchio's order."""
-    m, c = body.mass, body.com
-    I_O = body.inertia + m * ((c.T * c)[0] * sp.eye(3) - c * c.T)
-    return [m, *(m * c), *(I_O[i, j] for (i, j) in INERTIA)]
+INERTIA = {jk: 4 + n for n, jk in enumerate(UNIT)}  # (j, k), j ≤ k → its entry in a link's ten
 
 
 def inertia_matrix(x: list) -> sp.Matrix:
-    """The symmetric 3×3 inertia of a parameter vector (entries 4..9)."""
+    """The symmetric 3×3 inertia of a link's ten parameters."""
     return sp.Matrix(3, 3, lambda i, j: x[INERTIA[(min(i, j), max(i, j))]])
 
 
-def moved(part: list, R: sp.Matrix, p: sp.Matrix) -> list:
-    """A part (m, h, I) at a body's origin, written on its parent (x_parent = R x + p)."""
-    m, h = part[0], R * sp.Matrix(part[1:4])
-    I = R * inertia_matrix(part) * R.T + m * ((p.T * p)[0] * sp.eye(3) - p * p.T) \
-        + 2 * (p.T * h)[0] * sp.eye(3) - p * h.T - h * p.T
-    return [m, *(h + m * p), *(I[i, j] for (i, j) in INERTIA)]
+def on_parent(part: list, R: sp.Matrix, p: sp.Matrix) -> list:
+    """A part (m, h, I) at a link's origin, written on its parent (x_parent = R x + p)."""
+    m, h, I = moved((part[0], sp.Matrix(part[1:4]), inertia_matrix(part)), R, p)
+    return [m, *h, *(I[j, k] for j, k in UNIT)]
 
 
 def coordinate_axis(joint) -> int | None:
@@ -68,7 +59,7 @@ def coordinate_axis(joint) -> int | None:
 
 
 def split(joint, x: list) -> tuple[list, list]:
-    """(what the body keeps, what moves onto the parent) of its accumulated parameters x."""
+    """(what the link keeps, what moves onto the parent) of its accumulated parameters x."""
     zero = [sp.S.Zero] * 10
     if isinstance(joint, Fixed):
         return zero, list(x)
@@ -107,14 +98,8 @@ class Grouping:
                         [self.expressions[r] for r in rows], self.K.extract(rows, list(range(self.K.cols))))
 
 
-def moving(system: System) -> list:
-    """The bodies that carry parameters: those that move relative to their parent (a fixed body's are
-    its moving ancestor's, as in Pinocchio)."""
-    return [b for b in system.bodies if b.speed_indices]
-
-
 def carrier(body):
-    """(the moving ancestor of `body`'s joint or None for the world, R, p of the joint frame on it)."""
+    """(the link carrying `body`'s parent or None for the world, R, p of `body`'s joint frame on it)."""
     R, p, parent = body.placement.rotation, body.placement.translation, body.parent
     while parent is not None and not parent.speed_indices:
         R, p = parent.placement.rotation * R, parent.placement.rotation * p + parent.placement.translation
@@ -135,41 +120,31 @@ def spins_alone(body) -> bool:
     return dot.is_number and abs(float(dot)) < 1e-9
 
 
-def group(system: System, parameter_names: list[str], pi: list, armature: bool) -> Grouping:
-    """The structural grouping of the inertial parameters (and armatures) of `system`'s tree.
-
-    `parameter_names`/`pi`: the regressor's parameters, ten per moving body (`moving`), then
-    (armature=True) one armature per speed, then anything else (friction), kept as it is."""
-    bodies = moving(system)
-    P = len(pi)
-    placeholders = sp.symbols(f"_pi0:{P}", real=True)
-    acc = {b.name: list(placeholders[10 * n:10 * n + 10]) for n, b in enumerate(bodies)}
-    kept: dict = {}
-    for body in reversed(bodies):
-        keep, move = split(body.joint, acc[body.name])
-        kept[body.name] = keep
-        parent, R, p = carrier(body)
+def group(regressor: Regressor) -> Grouping:
+    """The structural grouping of the regressor's inertial parameters and armatures (the module's rules);
+    friction columns stay as they are."""
+    system, names = regressor.equations.system, regressor.names
+    P, column = len(names), {name: k for k, name in enumerate(names)}
+    x = sp.symbols(f"_pi0:{P}", real=True)  # π's entries, placeholders
+    beta = list(x)
+    acc = {link: [x[column[f"{n}_{link.name}"]] for n in INERTIAL] for link in links(system)}
+    for link in reversed(list(acc)):
+        keep, move = split(link.joint, acc[link])
+        for n, value in zip(INERTIAL, keep):
+            beta[column[f"{n}_{link.name}"]] = value
+        parent, R, p = carrier(link)
         if parent is not None:
-            acc[parent.name] = [a + b for a, b in zip(acc[parent.name], moved(move, R, p))]
-    beta = [x for b in bodies for x in kept[b.name]]
-    rest = list(placeholders[10 * len(bodies):])
-    if armature:
-        joints = [b for b in bodies if b.index is not None]
-        for n, body in enumerate(joints):
-            k = coordinate_axis(body.joint) if isinstance(body.joint, Revolute) else None
-            if k is not None and body.joint.mimic is None and spins_alone(body):
-                beta[10 * bodies.index(body) + INERTIA[(k, k)]] += rest[n]
-                rest[n] = sp.S.Zero
-    beta += rest
-    K = sp.Matrix([[sp.expand(b).coeff(s) for s in placeholders] for b in beta])
-    rows = [r for r in range(len(beta)) if any(K[r, c] != 0 for c in range(P))]
-    values = dict(zip(placeholders, pi))
-    names = [grouped_name(parameter_names, K, r) for r in rows]
-    return Grouping(names, rows, [sp.expand(sp.expand(beta[r]).xreplace(values)) for r in rows],
+            acc[parent] = [a + b for a, b in zip(acc[parent], on_parent(move, R, p))]
+    owner = {b.index: b for b in acc if b.index is not None and b.joint.dof == 1}
+    for i, name in speeds(system):
+        body = owner.get(i)
+        k = coordinate_axis(body.joint) if body is not None and isinstance(body.joint, Revolute) else None
+        if f"Ia_{name}" in column and k is not None and body.joint.mimic is None and spins_alone(body):
+            beta[column[f"I_{'xyz'[k] * 2}_{body.name}"]] += x[column[f"Ia_{name}"]]
+            beta[column[f"Ia_{name}"]] = sp.S.Zero
+    K = sp.Matrix([[sp.expand(b).coeff(s) for s in x] for b in beta])
+    rows = [r for r in range(P) if any(K[r, c] != 0 for c in range(P))]
+    values = dict(zip(x, regressor.pi))
+    return Grouping([names[r] + ("R" if any(K[r, c] != 0 for c in range(P) if c != r) else "")
+                     for r in rows], rows, [sp.expand(sp.expand(beta[r]).xreplace(values)) for r in rows],
                     K.extract(rows, list(range(P))))
-
-
-def grouped_name(names: list[str], K: sp.Matrix, r: int) -> str:
-    """The column's own name, with "R" when others are grouped into it."""
-    others = any(K[r, c] != 0 for c in range(K.cols) if c != r)
-    return names[r] + ("R" if others else "")
