@@ -22,6 +22,8 @@ from .worked import Solution, Step, solution
 from .state import difference, integrate, random_states
 from .simulate import simulate
 from .sweep import sweep
+from . import identification
+from .identification import base_parameters, excite, identify, identify_consistent
 from .plotting import plot
 from .animation import animate
 from .view import View, view
@@ -35,7 +37,7 @@ __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed
            "System", "Translation", "Universal", "assemble", "check_answer", "codegen",
            "derive", "from_dh", "from_mjcf",
            "from_urdf", "integrate", "kane", "linearize", "project", "quiet", "random_states", "reduce",
-           "regressor",
+           "regressor", "base_parameters", "identify", "identify_consistent", "excite", "identification",
            "robots",
            "difference", "simplified", "simulate", "sweep", "plot", "animate", "solution",
            "tradeoff", "verify", "view", "View", "write_c", "write_module"]

@@ -7,25 +7,32 @@ Y₂ = Y₁ D₁⁻¹ R₁₁⁻¹ R₁₂ D₂, so that
 
     Y π = Y₁ π₁ + Y₂ π₂ = Y_b β,    Y_b = Y P_b (the independent columns),    β = π₁ + K_d π₂.
 
-The rank tolerance is LAPACK's rule for a numerical rank, τ = max(K·nv, p) · ε · |R₁₁|₁ (ε the
-double precision, |R₁₁|₁ the largest diagonal entry of R, the columns normalised to unit length so
-that the parameters' units do not matter). Before that, a column whose norm is at most τ/|R₁₁|₁ times
-the largest column norm is taken as zero: a parameter that does not act, its column rounding errors
-(normalised, they would look independent). `tolerance` sets the relative τ/|R₁₁|₁ instead."""
+The rank tolerance is relative, τ = 10⁻⁹ |R₁₁|₁ (|R₁₁|₁ the largest diagonal entry of R, the columns
+normalised to unit length so that the parameters' units do not matter): a column independent of the
+others by less than that is taken as dependent. LAPACK's rule for a numerical rank, max(K·nv, p) · ε,
+would count the rounding of a file's numbers as rank (URDF angles are rounded to about 10⁻¹², which
+makes a nominally parallel axis independent by that much). Before the split, a column whose norm is at
+most τ/|R₁₁|₁ times the largest column norm is taken as zero: a parameter that does not act, its column
+rounding errors (normalised, they would look independent). `tolerance` sets the relative τ/|R₁₁|₁
+instead. A gap of less than GAP between the smallest kept |R_kk| and the largest dropped one (or τ) is
+warned: the rank is then unclear."""
 from __future__ import annotations
 
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.linalg
 
 from ..errors import ModelError
-from .data import Regressor, checked_names, stack
+from .data import stack
+from .grouping import Grouping, group
+from .model import ModelRegressor, resolve
 
 DROPPED = 1e-10  # coefficients of the combinations' text below this magnitude are left out
-GAP = 1e-9  # an independent column's relative |R_kk| below this: warned, the rank may be rounding errors
+TOLERANCE = 1e-9  # the default relative rank tolerance
+GAP = 1e3  # the smallest kept |R_kk| over the largest dropped one (or the tolerance) below this: warned
 
 
 @dataclass(frozen=True)
@@ -38,6 +45,8 @@ class BaseParameters:
     map: np.ndarray  # (b, p): β = map · π
     tolerance: float  # the relative rank tolerance used on |diag R| / |R₁₁|
     diagonal: np.ndarray  # |diag R| / |R₁₁| of the pivoted QR, all min(rows, p) of it (the rank gap)
+    grouping: Grouping | None = None  # a model's base parameters in its symbols (`base_parameters`)
+    note: str = ""  # why `grouping` is None for a model
 
     @property
     def rank(self) -> int:
@@ -63,23 +72,48 @@ class BaseParameters:
         return "\n".join(f"{n} := {c}" for n, c in zip(self.names, self.combinations()))
 
 
-def base_parameters(regressor: Regressor, names: Sequence[str], q, u, ud,
-                    tolerance: float | None = None) -> BaseParameters:
-    """The base parameters of `regressor` (Y(q, u, u̇) → (nv, p), columns `names`) from the states
-    (q, u, u̇) (random states, K·nv well above p: a few times p rows), see the module's text."""
-    names = checked_names(names)
+def base_parameters(regressor, q=None, u=None, ud=None, *, names: Sequence[str] | None = None,
+                    tolerance: float | None = None, states: int | None = None,
+                    seed: int = 0) -> BaseParameters:
+    """The base parameters of `regressor` (a System, EquationsOfMotion, `eg.regressor(...)`, or a
+    callable Y(q, u, u̇) → (nv, p) with column `names`) from the states (q, u, u̇) (K·nv well above p: a
+    few times p rows; a model's own random states by default, `states` of them, `seed`), see the module's
+    text. For a model, `grouping` holds the base parameters in the model's symbols where its structure
+    gives them all (`identification.grouping`), else None and `note` says why."""
+    regressor, names = resolve(regressor, names)
+    if q is None and isinstance(regressor, ModelRegressor):
+        q, u, ud = regressor.states(states or max(50, -(-4 * len(names) // len(regressor.system.u))), seed)
     Y = stack(regressor, names, q, u, ud)
     W = Y.reshape(-1, len(names))
     if W.shape[0] < W.shape[1]:
         raise ModelError(f"base_parameters: {len(Y)} states give {W.shape[0]} rows for {W.shape[1]} "
                          "parameters; give more states (rows: a few times the parameters)")
-    return _base(W, names, tolerance)
+    base = _base(W, names, tolerance)
+    if isinstance(regressor, ModelRegressor):
+        base = replace(base, **structural(regressor, W, base))
+    return base
+
+
+def structural(regressor: ModelRegressor, W: np.ndarray, base: BaseParameters) -> dict:
+    """{grouping, note}: the structural grouping restricted to the columns that act (as `_base` finds
+    them), when it has the numerical rank and Y = Y_R K holds on W."""
+    G = group(regressor.symbolic)
+    K = np.array(G.K.xreplace(regressor.values).tolist(), dtype=float)
+    scale = np.linalg.norm(W, axis=0)
+    if np.abs(W - W[:, G.columns] @ K).max() > 1e-9 * max(1.0, np.abs(W).max()):
+        return {"grouping": None, "note": "the structural rules do not hold for this model"}
+    acting = scale[G.columns] > base.tolerance * scale.max()
+    G = G.restrict(acting)
+    if len(G.names) != base.rank or np.linalg.matrix_rank(W[:, G.columns]) != base.rank:
+        return {"grouping": None, "note": f"the structure leaves {len(G.names)} parameters for a rank of "
+                                          f"{base.rank}: dependencies beyond the grouping rules"}
+    return {"grouping": G, "note": ""}
 
 
 def _base(W: np.ndarray, names: tuple[str, ...], tolerance: float | None) -> BaseParameters:
     """The pivoted QR split of the stacked regressor W (rows × p)."""
     p = W.shape[1]
-    tol = max(W.shape) * np.finfo(float).eps if tolerance is None else float(tolerance)
+    tol = TOLERANCE if tolerance is None else float(tolerance)
     if not 0 < tol < 1:
         raise ModelError(f"base_parameters: argument 'tolerance' must be in (0, 1), got {tolerance!r}")
     scale = np.linalg.norm(W, axis=0)
@@ -90,10 +124,11 @@ def _base(W: np.ndarray, names: tuple[str, ...], tolerance: float | None) -> Bas
     _, R, pivots = scipy.linalg.qr(W / scale, mode="economic", pivoting=True)
     diagonal = np.abs(np.diag(R)) / abs(R[0, 0])
     b = int(np.sum(diagonal > tol))
-    if diagonal[b - 1] < GAP:
+    dropped = diagonal[b] if b < len(diagonal) else 0.0
+    if diagonal[b - 1] < GAP * max(dropped, tol):
         warnings.warn(f"base_parameters: no clear rank gap: the smallest independent column's |R_kk| is "
-                      f"{diagonal[b - 1]:.1e} of |R_11| (rounding errors may count as rank); see "
-                      "BaseParameters.diagonal and set `tolerance`", stacklevel=3)
+                      f"{diagonal[b - 1]:.1e} of |R_11|, the largest dependent one's {dropped:.1e} (the "
+                      f"tolerance {tol:.0e}); see BaseParameters.diagonal and set `tolerance`", stacklevel=3)
     independent, dependent = pivots[:b], pivots[b:]
     K = scipy.linalg.solve_triangular(R[:b, :b], R[:b, b:])  # scaled: Y₂ D₂⁻¹ = Y₁ D₁⁻¹ K
     full = np.zeros((b, p))

@@ -19,7 +19,8 @@ import numpy as np
 from ..errors import ModelError, unknown
 from . import weighting
 from .base import BaseParameters, base_parameters
-from .data import Regressor, checked_names, rows, stack, states
+from .data import rows, stack, states
+from .model import ModelRegressor, resolve
 from .pseudo_inertia import PER_BODY, smallest_eigenvalues
 
 
@@ -36,15 +37,19 @@ class ConsistentIdentification:
     status: str  # the solver's
 
 
-def identify_consistent(regressor: Regressor, names: Sequence[str], q, u, ud, tau, bodies: int,
-                        nonnegative: Sequence[str] = (), weights=None, prior=None,
-                        regularisation: float = 1e-6,
+def identify_consistent(regressor, q, u, ud, tau, *, names: Sequence[str] | None = None,
+                        bodies: int | None = None, nonnegative: Sequence[str] | None = None, weights=None,
+                        prior=None, regularisation: float = 1e-6,
                         base: BaseParameters | None = None) -> ConsistentIdentification:
     """π̂ of the module's program; the first `bodies` × 10 parameters are the bodies' (Pinocchio's order),
-    `nonnegative` names the parameters kept ≥ 0."""
+    `nonnegative` names the parameters kept ≥ 0. For a model (System, EquationsOfMotion,
+    `eg.regressor(...)`): its links and its armatures, viscous and Coulomb coefficients by default."""
     import cvxpy as cp
 
-    names = checked_names(names)
+    regressor, names = resolve(regressor, names)
+    model = isinstance(regressor, ModelRegressor)
+    bodies = regressor.bodies if bodies is None and model else bodies
+    nonnegative = (regressor.nonnegative if model else ()) if nonnegative is None else nonnegative
     q, u, ud = states(q, u, ud)
     tau = rows(tau, "tau", u.shape[1])
     p = len(names)
@@ -63,7 +68,7 @@ def identify_consistent(regressor: Regressor, names: Sequence[str], q, u, ud, ta
     Y = stack(regressor, names, q, u, ud)
     if len(tau) != len(Y):
         raise ModelError(f"argument 'tau' must have one row per state ({len(Y)}), got {len(tau)}")
-    base = base or base_parameters(regressor, names, q, u, ud)
+    base = base or base_parameters(regressor, q, u, ud, names=names)
     w = weighting.gautier(base.regressor(Y), tau) if weights is None else weighting.given(weights, Y.shape[1])
     A, c = weighting.weighted(Y, tau, w)
     Q, R = np.linalg.qr(A)  # ‖Aπ − c‖² = ‖Rπ − Qᵀc‖² + a constant

@@ -17,7 +17,8 @@ import scipy.optimize
 
 from ..errors import ModelError
 from .base import BaseParameters, base_parameters
-from .data import Regressor, batch, checked_names, stack
+from .data import Regressor, batch, stack
+from .model import resolve
 from .fourier import Fourier, limits, random_fourier
 
 
@@ -46,13 +47,14 @@ def condition(regressor: Regressor, base: BaseParameters, q, u, ud) -> float:
     return float(s[0] / s[-1]) if s[-1] > 0 else np.inf
 
 
-def excite(regressor: Regressor, names: Sequence[str], lower, upper, velocity, harmonics: int = 5,
+def excite(regressor, lower, upper, velocity, *, names: Sequence[str] | None = None, harmonics: int = 5,
            period: float = 10.0, samples: int = 50, restarts: int = 3, iterations: int = 100,
            time_limit: float = 30.0,
            rng: np.random.Generator | None = None, base: BaseParameters | None = None) -> Excitation:
     """The excitation trajectory of the module's text: `harmonics` L, fundamental ω_f = 2π/`period`,
-    at most `iterations` SLSQP iterations from each start."""
-    names = checked_names(names)
+    at most `iterations` SLSQP iterations from each start; the regressor a System, EquationsOfMotion,
+    `eg.regressor(...)` or a callable with column `names`."""
+    regressor, names = resolve(regressor, names)
     lo, hi, v = limits(lower, upper, velocity)
     counts = {"harmonics": harmonics, "samples": samples, "restarts": restarts, "iterations": iterations}
     for name, value in counts.items():
@@ -68,7 +70,7 @@ def excite(regressor: Regressor, names: Sequence[str], lower, upper, velocity, h
     randoms = [random_fourier(rng, lo, hi, v, harmonics, omega, times) for _ in range(restarts + 3)]
     sampled = tuple(map(np.concatenate, zip(*(f(times) for f in randoms))))
     regressor = batch(regressor, *sampled)
-    base = base or base_parameters(regressor, names, *sampled)  # many more rows than parameters
+    base = base or base_parameters(regressor, *sampled, names=names)  # many more rows than parameters
 
     G, h = _limits_matrix(lambda x: _inside(Fourier.of(x, n, harmonics, omega), times, lo, hi, v),
                           n * (2 * harmonics + 1))

@@ -146,5 +146,12 @@ def group(regressor: Regressor) -> Grouping:
     rows = [r for r in range(P) if any(K[r, c] != 0 for c in range(P))]
     values = dict(zip(x, regressor.pi))
     return Grouping([names[r] + ("R" if any(K[r, c] != 0 for c in range(P) if c != r) else "")
-                     for r in rows], rows, [sp.expand(sp.expand(beta[r]).xreplace(values)) for r in rows],
+                     for r in rows], rows, [in_symbols(beta[r], values) for r in rows],
                     K.extract(rows, list(range(P))))
+
+
+def in_symbols(beta: sp.Expr, values: dict) -> sp.Expr:
+    """β in the model's symbols, expanded; a number as a float (a file's parameters are exact
+    rationals of their decimals)."""
+    value = sp.expand(sp.expand(beta).xreplace(values))
+    return value if value.free_symbols or value == 0 else sp.Float(value, 15)

@@ -17,7 +17,8 @@ import numpy as np
 from ..errors import ModelError
 from . import weighting
 from .base import BaseParameters, base_parameters
-from .data import Regressor, checked_names, rows, stack, states
+from .data import Regressor, rows, stack, states
+from .model import resolve
 
 
 @dataclass(frozen=True)
@@ -40,17 +41,18 @@ class Identification:
         return self.base.regressor(Y) @ self.beta
 
 
-def identify(regressor: Regressor, names: Sequence[str], q, u, ud, tau, weights=None,
+def identify(regressor, q, u, ud, tau, *, names: Sequence[str] | None = None, weights=None,
              base: BaseParameters | None = None) -> Identification:
-    """β̂ from the measured torques τ (N, nv) at the states (q, u, u̇) (see the module's text).
+    """β̂ from the measured torques τ (N, nv) at the states (q, u, u̇) (see the module's text); the
+    regressor a System, EquationsOfMotion, `eg.regressor(...)` or a callable with column `names`.
     base: the base parameters (default: found from these states); weights: one per joint (default
     Gautier's 1/σ̂_j, `weighting`)."""
-    names = checked_names(names)
+    regressor, names = resolve(regressor, names)
     q, u, ud = states(q, u, ud)
     tau = rows(tau, "tau", u.shape[1])
     if len(tau) != len(q):
         raise ModelError(f"argument 'tau' must have one row per state ({len(q)}), got {len(tau)}")
-    base = base or base_parameters(regressor, names, q, u, ud)
+    base = base or base_parameters(regressor, q, u, ud, names=names)
     if base.parameters != names:
         raise ModelError("argument 'base' is of other parameters than 'names'")
     Yb = base.regressor(stack(regressor, names, q, u, ud))
