@@ -11,6 +11,7 @@ Per robot (ur5, panda, solo12, talos, tiago, tiago_dual by default) and kernel:
 | ID (τ of q, u, u̇)      | rnea                       |
 | ID_derivatives          | computeRNEADerivatives     |
 | FD_derivatives          | computeABADerivatives      |
+| Y (the regressor)       | computeJointTorqueRegressor (its 10 per link: eomgen's also has armature and friction) |
 
 Each time is the best of `REPEAT` runs of the mean over `STATES` random states (ns per call). The
 outputs of the first `CHECKED` states are compared (max |difference| / max(1, max |value|)), and a
@@ -66,6 +67,8 @@ KERNELS = {
         "pinocchio::computeABADerivatives(model, data, q[k], v[k], a[k])",
         "cat({data.ddq_dq, data.ddq_dv, sym(data.Minv)})",
     ),
+    "Y": ("qua", "columns", "pinocchio::computeJointTorqueRegressor(model, data, q[k], v[k], a[k])",
+          "data.jointTorqueRegressor"),
 }
 DEFAULT_KERNELS = ["M", "nle", "g", "ID"]
 CACHE = Path.home() / ".cache" / "eomgen-benchmarks"  # the C++ harness, built once
@@ -76,7 +79,7 @@ C_LOOP = r"""#include <stdio.h>
 #include "eom.h"
 #define N @states@
 
-static double q[N][EOM_NQ], u[N][EOM_NV], a[N][EOM_NV], p[EOM_NP + 1], out[3 * EOM_NV * EOM_NV + EOM_NV];
+static double q[N][EOM_NQ], u[N][EOM_NV], a[N][EOM_NV], p[EOM_NP + 1], out[@size@];
 static volatile double sink;
 
 static double now(void)
@@ -127,6 +130,7 @@ CPP_LOOP = r"""#include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/algorithm/aba-derivatives.hpp>
+#include <pinocchio/algorithm/regressor.hpp>
 #include <pinocchio/serialization.hpp>
 #include <algorithm>
 #include <chrono>
@@ -203,8 +207,11 @@ def text(states) -> str:
     return "".join(" ".join(repr(float(x)) for x in np.concatenate(s)) + "\n" for s in states)
 
 
-def size(kernel: str, nv: int) -> int:
-    """The entries of a kernel's output: nv for a vector, k nv² for k matrices side by side."""
+def size(kernel: str, nv: int, columns: int = 0) -> int:
+    """The entries of a kernel's output: nv for a vector, k nv² for k matrices side by side, nv × columns
+    for the regressor (eomgen's columns)."""
+    if KERNELS[kernel][1] == "columns":
+        return nv * columns
     return KERNELS[kernel][1] * nv * nv or nv
 
 
@@ -223,11 +230,12 @@ def c_loop(eom, folder: Path, states, kernels: list[str], flags: str) -> dict:
     t0 = time.perf_counter()
     c_path, _ = eg.write_c(eom, folder, name="eom", derivatives=any("derivatives" in k for k in kernels))
     written = time.perf_counter() - t0
-    nv = len(eom.u)
-    runs = "\n".join(f'    run("{k}", eom_{k}, {size(k, nv)});' for k in kernels)
+    nv, columns = len(eom.u), regressor_columns(eom, kernels)
+    runs = "\n".join(f'    run("{k}", eom_{k}, {size(k, nv, columns)});' for k in kernels)
     harness = folder / "loop.c"
     harness.write_text(
         C_LOOP.replace("@states@", str(len(states)))
+        .replace("@size@", str(max(size(k, nv, columns) for k in [*kernels, "FD_derivatives"])))
         .replace("@repeat@", str(REPEAT))
         .replace("@checked@", str(CHECKED))
         .replace("@runs@", runs)
@@ -251,6 +259,11 @@ def c_loop(eom, folder: Path, states, kernels: list[str], flags: str) -> dict:
     compiled = time.perf_counter() - t0
     out = subprocess.run([str(exe)], input=text(states), capture_output=True, text=True, check=True).stdout
     return {"write_c_s": written, "cc_s": compiled, **parse(out, kernels)}
+
+
+def regressor_columns(eom, kernels: list[str]) -> int:
+    """The columns of eomgen's full regressor (10 per link, armature, three friction kinds), if asked."""
+    return len(eg.regressor(eom).names) if "Y" in kernels else 0
 
 
 def cpp_harness(kernels: list[str], flags: str) -> Path | str:
@@ -324,9 +337,12 @@ def bench(name: str, kernels: list[str], flags: str, harness: Path | str) -> dic
     for k in kernels:
         row[f"{k}_ns"] = ours[k][0]
         if k in theirs:
+            mine, pins = ours[k][1], theirs[k][1]
+            if k == "Y":  # Pinocchio's 10 per link: the first columns of eomgen's
+                mine = mine.reshape(CHECKED, len(system.u), -1)[..., : pins.shape[1] // len(system.u)]
             row[f"{k}_pin_ns"] = theirs[k][0]
             row[f"{k}_ratio"] = ours[k][0] / theirs[k][0]
-            row[f"{k}_error"] = agreement(ours[k][1], theirs[k][1])
+            row[f"{k}_error"] = agreement(mine.reshape(CHECKED, -1), pins)
     return row
 
 

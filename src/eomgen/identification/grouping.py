@@ -15,16 +15,17 @@ A part (m, h, I) at O_j becomes, on the parent (x_parent = R x + p, the joint's 
 
     m,  R h + m p,  R I Rᵀ + m (pᵀp 1 − p pᵀ) + 2 (pᵀ h') 1 − p h'ᵀ − h' pᵀ   (h' = R h),
 
-since a revolute joint's rotation leaves a, h_k a and (1 − a aᵀ) in place. What moves onto the world
-has no effect (it is not identifiable). A revolute joint with a = e_k whose parent's angular velocity is
-always perpendicular to a (the world, or a link turning about a fixed axis b ⊥ a): a·ω_j = q̇_j, so its
-armature enters as the body's I_kk does (½ I_a q̇²) and is grouped with I_kk. Bodies whose joint is of
-another kind (spherical, free, helical, several axes) and axes off the coordinate axes keep their ten
-parameters.
+since a revolute joint's rotation leaves a, h_k a and (1 − a aᵀ) in place. What moves onto the world has
+no effect (it is not identifiable). A revolute joint with a = e_k whose parent's angular velocity is
+always perpendicular to a (nothing above it turns, or one revolute joint alone, about b ⊥ a): a·ω_j =
+q̇_j, so its armature enters as the body's I_kk does (½ I_a q̇²) and is grouped with I_kk. A prismatic
+joint on the world: its armature enters as the link's (total) mass does, less a constant force along the
+axis, which the offset friction takes. Bodies whose joint is of another kind (spherical, free, helical,
+several axes) and axes off the coordinate axes keep their ten parameters.
 
 What is left may still hold columns that never move (a body turning about a fixed axis: its I_ii − I_jj,
-I_ij, ...; first moments along gravity) or dependencies beyond these rules: `check` finds them on the
-numerical regressor."""
+I_ij, ...; first moments along gravity) or dependencies beyond these rules: `eg.base_parameters` finds
+them on the numerical regressor and keeps the grouping only where it has the numerical rank."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -109,15 +110,41 @@ def carrier(body):
 
 def spins_alone(body) -> bool:
     """Whether a·ω_j = q̇_j always: the parent's angular velocity ω_p is perpendicular to the joint's axis a,
-    because the parent is the world or turns about a world-fixed axis b with a·b = 0 (to 1e-9, the
-    round-off of files' angles)."""
-    parent, R, _ = carrier(body)
-    if parent is None:
+    because nothing above turns (prismatic and fixed joints up to the world) or one revolute joint alone
+    does, about an axis b with a·b = 0 (to 1e-9, the round-off of files' angles)."""
+    R, turning, part = body.placement.rotation, None, body.parent
+    while part is not None:
+        if isinstance(part.joint, Revolute):
+            if turning is not None:
+                return False
+            turning = R * body.joint.axis, part.joint.axis
+        elif not isinstance(part.joint, (Prismatic, Fixed)):
+            return False
+        R, part = part.placement.rotation * R, part.parent
+    if turning is None:
         return True
-    if not isinstance(parent.joint, Revolute) or carrier(parent)[0] is not None:
-        return False
-    dot = (R * body.joint.axis).dot(parent.joint.axis)
+    dot = turning[0].dot(turning[1])
     return dot.is_number and abs(float(dot)) < 1e-9
+
+
+def armature(beta: list, x, column: dict, body, name: str, gravity: sp.Matrix) -> None:
+    """Group joint `name`'s armature I_a where its column is another's (the module's text): a revolute
+    joint that spins alone, with I_kk; a prismatic joint on the world along a (world axes) with the mass,
+    τ = (m + I_a)(ü − g⃗·a) + (F_o + I_a g⃗·a), the offset F_o taking I_a g⃗·a (without an offset column,
+    only where g⃗·a = 0)."""
+    k, Ia = coordinate_axis(body.joint), x[column[f"Ia_{name}"]]
+    if isinstance(body.joint, Revolute) and k is not None and spins_alone(body):
+        beta[column[f"I_{'xyz'[k] * 2}_{body.name}"]] += Ia
+    elif isinstance(body.joint, Prismatic) and carrier(body)[0] is None:
+        along = (carrier(body)[1] * body.joint.axis).dot(gravity)
+        if not (along.is_number and abs(float(along)) < 1e-9) and f"Fo_{name}" not in column:
+            return
+        beta[column[f"m_{body.name}"]] += Ia
+        if f"Fo_{name}" in column:
+            beta[column[f"Fo_{name}"]] += along * Ia
+    else:
+        return
+    beta[column[f"Ia_{name}"]] = sp.S.Zero
 
 
 def group(regressor: Regressor) -> Grouping:
@@ -135,13 +162,11 @@ def group(regressor: Regressor) -> Grouping:
         parent, R, p = carrier(link)
         if parent is not None:
             acc[parent] = [a + b for a, b in zip(acc[parent], on_parent(move, R, p))]
-    owner = {b.index: b for b in acc if b.index is not None and b.joint.dof == 1}
+    owner = {b.index: b for b in acc if b.index is not None and b.joint.dof == 1 and b.joint.mimic is None}
     for i, name in speeds(system):
         body = owner.get(i)
-        k = coordinate_axis(body.joint) if body is not None and isinstance(body.joint, Revolute) else None
-        if f"Ia_{name}" in column and k is not None and body.joint.mimic is None and spins_alone(body):
-            beta[column[f"I_{'xyz'[k] * 2}_{body.name}"]] += x[column[f"Ia_{name}"]]
-            beta[column[f"Ia_{name}"]] = sp.S.Zero
+        if f"Ia_{name}" in column and body is not None:
+            armature(beta, x, column, body, name, system.gravity)
     K = sp.Matrix([[sp.expand(b).coeff(s) for s in x] for b in beta])
     rows = [r for r in range(P) if any(K[r, c] != 0 for c in range(P))]
     values = dict(zip(x, regressor.pi))
