@@ -1,7 +1,8 @@
 """The base parameters of every fixed-base robot of example-robot-data and the DH robots: their number
 (the rank of the stacked regressor, QR with pivoting at the relative tolerance 1e-9), the SVD's rank
 beside it, and how many the structural grouping gives in the model's symbols, without and with armature
-and friction (viscous, Coulomb, offset). Also the regressor's operations and the time to find them.
+and friction (viscous, Coulomb, offset); the regressor's operations. (Its time per call beside
+Pinocchio's: kernels.py --kernels Y.)
 Prints a table and writes JSON.
 
 Run: python benchmarks/base_parameters.py [names ...] [--out ...]"""
@@ -43,6 +44,7 @@ def row(name: str) -> dict:
         Y = numeric_regressor(eg.regressor(system, **options))
         states = max(60, 4 * len(Y.names) // system.nv)
         base = eg.base_parameters(Y, states=states)
+        out["ops"] = Y.functions.ops["Y"]  # the full regressor's operations (NumPy printer)
         out[label] = {"p": len(Y.names), "rank": base.rank, "seconds": time.perf_counter() - t,
                       "svd": svd_rank(Y(*Y.states(states, seed=9)).reshape(-1, len(Y.names))),
                       "grouped": None if base.grouping is None else len(base.grouping.names),
@@ -57,7 +59,7 @@ def main() -> None:
     ap.add_argument("--out", default=results_io.default_path("base_parameters"))
     args = ap.parse_args()
     eg.quiet()
-    print(f"{'robot':26s} {'nv':>3s} | {'p':>4s} {'rank':>4s} {'SVD':>4s} {'grouped':>7s} | "
+    print(f"{'robot':26s} {'nv':>3s} {'ops':>6s} | {'p':>4s} {'rank':>4s} {'SVD':>4s} {'grouped':>7s} | "
           f"{'p':>4s} {'rank':>4s} {'SVD':>4s} {'grouped':>7s}   (inertial | with armature and friction)")
     rows = []
     for name in args.names:
@@ -65,7 +67,7 @@ def main() -> None:
         rows.append(r)
         cells = " | ".join(f"{c['p']:4d} {c['rank']:4d} {c['svd']:4d} {str(c['grouped']):>7s}"
                            for c in (r[label] for label in OPTIONS))
-        print(f"{name:26s} {r['nv']:3d} | {cells}", flush=True)
+        print(f"{name:26s} {r['nv']:3d} {r['ops']:6d} | {cells}", flush=True)
     results_io.write(args.out, "base_parameters", rows)
 
 

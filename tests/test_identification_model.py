@@ -117,3 +117,12 @@ def test_every_fixed_base_robot_has_its_numerical_rank_and_grouping(name):
         base = eg.base_parameters(Y, states=max(60, 4 * len(R.names) // system.nv))
         assert base.rank == svd_rank(Y(*Y.states(max(60, 4 * len(R.names) // system.nv), seed=9)))
         assert base.grouping is not None and len(base.grouping.names) == base.rank, base.note
+
+
+def test_the_panda_arm_has_43_base_inertial_parameters():
+    """The Franka Emika Panda, fingers locked (the hand welded to link 7): the 43 base inertial parameters
+    of Gaz, Cognetti, Oliva, Robuffo Giordano and De Luca (IEEE RA-L 2019), all given by the grouping."""
+    panda = load("panda")
+    arm = panda.reduced({j.name: 0.0 for j in panda.joints if "finger" in j.name})
+    base = eg.base_parameters(eg.regressor(arm, friction=(), armature=False), states=80)
+    assert base.rank == 43 and len(base.grouping.names) == 43
