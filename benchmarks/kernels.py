@@ -11,7 +11,7 @@ Per robot (ur5, panda, solo12, talos, tiago, tiago_dual by default) and kernel:
 | ID (τ of q, u, u̇)      | rnea                       |
 | ID_derivatives          | computeRNEADerivatives     |
 | FD_derivatives          | computeABADerivatives      |
-| Y (the regressor)       | computeJointTorqueRegressor (its 10 per link: eomgen's also has armature and friction) |
+| Y (the regressor)       | computeJointTorqueRegressor (10 per link; eomgen: + armature, friction) |
 
 Each time is the best of `REPEAT` runs of the mean over `STATES` random states (ns per call). The
 outputs of the first `CHECKED` states are compared (max |difference| / max(1, max |value|)), and a
