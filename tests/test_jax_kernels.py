@@ -92,11 +92,41 @@ def test_bound_params_float32_nan_and_other_platforms(features):
     assert f32.kernels == "c" and f32.M(Q).dtype == np.float32  # computed in float64, rounded
     close(f32.M(Q), f.M(Q, PARAMS), 1e-6, "float32")
     with pytest.raises((jax.errors.JaxRuntimeError, ValueError), match="q: contains NaN or infinite"):
-        np.asarray(fj.M(np.full(fj.nq, np.nan), PARAMS))  # the C kernel checks its inputs
+        np.asarray(fj.M(np.full((2, fj.nq), np.nan), PARAMS))  # the C kernel checks a batch's inputs
+    assert np.isnan(fj.M(np.full(fj.nq, np.nan), PARAMS)).any()  # one state: the traced graph
     p = np.asarray(fj.parameter_vector(PARAMS, "M"))
+    batch = jax.vmap(fj.jax["M"], in_axes=(0, 0, 0, None))
     for platform, callback in (("cpu", True), ("cuda", False)):
-        lowered = jax.jit(fj.jax["M"]).trace(Q[0], U[0], U[0], p).lower(lowering_platforms=(platform,))
+        lowered = jax.jit(batch).trace(Q, U, U, p).lower(lowering_platforms=(platform,))
         assert ("callback" in lowered.as_text()) == callback, platform
+
+
+def test_one_state_runs_the_traced_graph_a_batch_the_c_kernel(features, monkeypatch):
+    """Not vmapped (jit, jacfwd, grad): the traced graph, no host callback in the lowered program and no
+    C call; jit of vmap, nested vmap: one C call; vmap of jacfwd: the traced graph's tangents."""
+    eom, f, fj = features
+    calls = []
+
+    def counted(c, shape, *args):
+        calls.append(np.shape(args[0]))
+        return evaluate(c, shape, *args)
+    evaluate = jax_kernels.evaluate
+    monkeypatch.setattr(jax_kernels, "evaluate", counted)
+    Q, U, UD = eg.random_states(eom.system, 6, np.random.default_rng(11))
+    p = np.asarray(fj.parameter_vector(PARAMS, "M"))
+    M = fj.jax["M"]
+    assert "callback" not in jax.jit(M).trace(Q[0], U[0], UD[0], p).lower().as_text()
+    close(jax.jit(M)(Q[0], U[0], UD[0], p), f.M(Q[0], PARAMS), 1e-12, "one state, jit")
+    jacobian = jax.jit(jax.jacfwd(M))(Q[0], U[0], UD[0], p)
+    batched_jacobian = jax.vmap(jax.jacfwd(M), in_axes=(0, 0, 0, None))(Q, U, UD, p)
+    close(batched_jacobian[0], jacobian, 1e-12, "vmap of jacfwd")
+    h = 1e-6
+    central = (f.M(Q[0] + h * np.eye(fj.nq)[0], PARAMS) - f.M(Q[0] - h * np.eye(fj.nq)[0], PARAMS)) / (2 * h)
+    close(jacobian[..., 0], central, 1e-6, "jacfwd of M against a central difference of NumPy's M")
+    jax.grad(lambda q: M(q, U[0], UD[0], p)[0, 0])(Q[0])
+    assert calls == []
+    close(jax.jit(jax.vmap(M, in_axes=(0, 0, 0, None)))(Q, U, UD, p), f.M(Q, PARAMS), 1e-12, "jit of vmap")
+    assert calls == [(6, fj.nq)]
 
 
 def test_the_default_and_refusals(monkeypatch):
