@@ -11,7 +11,6 @@ import pytest
 
 import eomgen as eg
 from eomgen.functions import catalogue
-from eomgen.numeric import jax_kernels
 from test_catalogue import PARAMS, everything, members, public_call
 from test_traced_targets import close
 
@@ -40,32 +39,33 @@ def test_every_entry_equals_numpy_one_state_jit_and_vmap(features):
     assert set(fj._c.compiled) == {fn.key for fn in members(catalogue(eom)) if not fn.composite}
 
 
-def test_a_vmapped_batch_is_one_c_call(features, monkeypatch):
-    """vmap and nested vmaps reach the C function as one batch (the leading axes flattened), a shared p
-    once; parameters mapped per state: the batch too, each state with its own."""
-    eom, f, fj = features
-    calls = []
+def c_calls(function, *args) -> int:
+    """The calls of the C kernels (the XLA FFI targets "eomgen_<module>_m<i>") in the program that jit of
+    `function` lowers for CPU."""
+    return jax.jit(function).trace(*args).lower(lowering_platforms=("cpu",)).as_text().count("call @eomgen_")
 
-    def counted(c, shape, q, u, ud, p):
-        calls.append((np.shape(q), np.shape(p)))
-        return evaluate(c, shape, q, u, ud, p)
-    evaluate = jax_kernels.evaluate
-    monkeypatch.setattr(jax_kernels, "evaluate", counted)
+
+def test_a_vmapped_batch_is_one_c_call(features):
+    """vmap and nested vmaps reach the C function as one batch (one FFI call over the batch axes), a
+    shared p once; parameters mapped per state: the batch too, each state with its own."""
+    eom, f, fj = features
     Q, U, UD = eg.random_states(eom.system, 12, np.random.default_rng(3))
     p = np.asarray(fj.parameter_vector(PARAMS, "M"))
     M = fj.jax["M"]
-    nested = jax.jit(jax.vmap(jax.vmap(M, in_axes=(0, 0, None, None)), in_axes=(0, 0, None, None)))
-    close(nested(Q.reshape(3, 4, -1), U.reshape(3, 4, -1), UD[0], p),
-          f.M(Q, PARAMS).reshape(3, 4, fj.nv, fj.nv), 1e-12, "nested vmap")
-    assert calls == [((3, 4, eom.system.nq), (1, 1, len(p)))]
-    calls.clear()
+    nested = jax.vmap(jax.vmap(M, in_axes=(0, 0, None, None)), in_axes=(0, 0, None, None))
+    args = Q.reshape(3, 4, -1), U.reshape(3, 4, -1), UD[0], p
+    close(jax.jit(nested)(*args), f.M(Q, PARAMS).reshape(3, 4, fj.nv, fj.nv), 1e-12, "nested vmap")
+    assert c_calls(nested, *args) == 1
+    broadcast = jax.vmap(jax.vmap(M, in_axes=(0, None, None, None)), in_axes=(None, 0, None, None))
+    close(jax.jit(broadcast)(Q[:3], U[:2], UD[0], p), np.broadcast_to(f.M(Q[:3], PARAMS), (2, 3, fj.nv, fj.nv)),
+          1e-12, "q and u broadcast")
     heavier = {**PARAMS, "g": 3.0}
     p = fj.parameter_vector(PARAMS, "g")
     P = np.array([p, fj.parameter_vector(heavier, "g"), p, p])
     G = np.asarray(jax.vmap(fj.jax["g"])(Q[:4], U[:4], UD[:4], P))
     close(G[[0, 2, 3]], f.call("g", Q[[0, 2, 3]], params=PARAMS), 1e-12, "vmap over p")
     close(G[1], f.call("g", Q[1], params=heavier), 1e-12, "vmap over p")
-    assert calls == [((4, eom.system.nq), (4, len(p)))]
+    assert c_calls(jax.vmap(fj.jax["g"]), Q[:4], U[:4], UD[:4], P) == 1
 
 
 def test_derivatives_are_the_traced_graphs(features):
@@ -96,37 +96,30 @@ def test_bound_params_float32_nan_and_other_platforms(features):
     assert np.isnan(fj.M(np.full(fj.nq, np.nan), PARAMS)).any()  # one state: the traced graph
     p = np.asarray(fj.parameter_vector(PARAMS, "M"))
     batch = jax.vmap(fj.jax["M"], in_axes=(0, 0, 0, None))
-    for platform, callback in (("cpu", True), ("cuda", False)):
-        lowered = jax.jit(batch).trace(Q, U, U, p).lower(lowering_platforms=(platform,))
-        assert ("callback" in lowered.as_text()) == callback, platform
+    assert c_calls(batch, Q, U, U, p) == 1
+    lowered = jax.jit(batch).trace(Q, U, U, p).lower(lowering_platforms=("cuda",)).as_text()
+    assert "custom_call" not in lowered and "callback" not in lowered
 
 
-def test_one_state_runs_the_traced_graph_a_batch_the_c_kernel(features, monkeypatch):
-    """Not vmapped (jit, jacfwd, grad): the traced graph, no host callback in the lowered program and no
-    C call; jit of vmap, nested vmap: one C call; vmap of jacfwd: the traced graph's tangents."""
+def test_one_state_runs_the_traced_graph_a_batch_the_c_kernel(features):
+    """Not vmapped (jit, jacfwd, grad, vmap of jacfwd): the traced graph, no C call in the lowered program;
+    jit of vmap: one C call."""
     eom, f, fj = features
-    calls = []
-
-    def counted(c, shape, *args):
-        calls.append(np.shape(args[0]))
-        return evaluate(c, shape, *args)
-    evaluate = jax_kernels.evaluate
-    monkeypatch.setattr(jax_kernels, "evaluate", counted)
     Q, U, UD = eg.random_states(eom.system, 6, np.random.default_rng(11))
     p = np.asarray(fj.parameter_vector(PARAMS, "M"))
     M = fj.jax["M"]
-    assert "callback" not in jax.jit(M).trace(Q[0], U[0], UD[0], p).lower().as_text()
-    close(jax.jit(M)(Q[0], U[0], UD[0], p), f.M(Q[0], PARAMS), 1e-12, "one state, jit")
-    jacobian = jax.jit(jax.jacfwd(M))(Q[0], U[0], UD[0], p)
-    batched_jacobian = jax.vmap(jax.jacfwd(M), in_axes=(0, 0, 0, None))(Q, U, UD, p)
-    close(batched_jacobian[0], jacobian, 1e-12, "vmap of jacfwd")
-    h = 1e-6
-    central = (f.M(Q[0] + h * np.eye(fj.nq)[0], PARAMS) - f.M(Q[0] - h * np.eye(fj.nq)[0], PARAMS)) / (2 * h)
+    one, batch = (Q[0], U[0], UD[0], p), (Q, U, UD, p)
+    assert c_calls(M, *one) == 0 and c_calls(jax.jacfwd(M), *one) == 0
+    assert c_calls(jax.grad(lambda q, *rest: M(q, *rest)[0, 0]), *one) == 0
+    assert c_calls(jax.vmap(jax.jacfwd(M), in_axes=(0, 0, 0, None)), *batch) == 0
+    assert c_calls(jax.vmap(M, in_axes=(0, 0, 0, None)), *batch) == 1
+    close(jax.jit(M)(*one), f.M(Q[0], PARAMS), 1e-12, "one state, jit")
+    jacobian = jax.jit(jax.jacfwd(M))(*one)
+    close(jax.vmap(jax.jacfwd(M), in_axes=(0, 0, 0, None))(*batch)[0], jacobian, 1e-12, "vmap of jacfwd")
+    h, e = 1e-6, np.eye(fj.nq)[0]
+    central = (f.M(Q[0] + h * e, PARAMS) - f.M(Q[0] - h * e, PARAMS)) / (2 * h)
     close(jacobian[..., 0], central, 1e-6, "jacfwd of M against a central difference of NumPy's M")
-    jax.grad(lambda q: M(q, U[0], UD[0], p)[0, 0])(Q[0])
-    assert calls == []
-    close(jax.jit(jax.vmap(M, in_axes=(0, 0, 0, None)))(Q, U, UD, p), f.M(Q, PARAMS), 1e-12, "jit of vmap")
-    assert calls == [(6, fj.nq)]
+    close(jax.jit(jax.vmap(M, in_axes=(0, 0, 0, None)))(*batch), f.M(Q, PARAMS), 1e-12, "jit of vmap")
 
 
 def test_the_default_and_refusals(monkeypatch):

@@ -15,7 +15,6 @@ JaxRuntimeError) where the traced graph returns NaN. float32: the kernels comput
 values rounded to float32."""
 from __future__ import annotations
 
-import math
 import threading
 
 import numpy as np
@@ -26,6 +25,7 @@ from ..printers.build.extension import compiler, python_headers
 from ..printers.c_extension import ExtensionPrinter
 
 KERNELS = ("c", "xla")
+REGISTERED: set[str] = set()  # the FFI targets registered with XLA in this process
 
 
 def kernels_for(kernels: str | None) -> str:
@@ -46,13 +46,14 @@ def kernels_for(kernels: str | None) -> str:
 
 
 class Kernels:
-    """The C functions of a catalogue, compiled on the first call of one of them: every function added
-    until then in one extension module (with vector batches), once (threads wait on a lock)."""
+    """The C functions of a catalogue as XLA FFI targets, compiled on the first trace of one of them on
+    CPU: every function added until then in one extension module (`printers.ffi`), once (threads wait
+    on a lock), its handlers registered with XLA."""
 
     def __init__(self, catalogue: Catalogue) -> None:
         self.catalogue = catalogue
         self.pending: list[str] = []
-        self.compiled: dict = {}
+        self.compiled: dict[str, str] = {}
         self._lock = threading.Lock()
 
     def add(self, key: str) -> None:
@@ -60,49 +61,38 @@ class Kernels:
             if key not in self.compiled and key not in self.pending:
                 self.pending.append(key)
 
-    def function(self, key: str):
-        """The compiled function `key`: (q, u, ud, p, out) → its matrix, one state or N."""
+    def target(self, key: str) -> str:
+        """The name of the FFI target of function `key`: (q, u, ud, p) → out (`printers.ffi`)."""
+        import jax.ffi
+
         with self._lock:
             if key not in self.compiled:
                 keys = list(dict.fromkeys([*self.pending, key]))
-                self.compiled.update(ExtensionPrinter(self.catalogue).print(keys))
+                functions = ExtensionPrinter(self.catalogue, ffi=True).print(keys)
+                for k, generated in functions.items():
+                    module, name = generated.function.__self__, generated.function.__name__
+                    target = f"{module.__name__}_{name}"
+                    if target not in REGISTERED:  # once per process
+                        handler = module._ffi()[int(name[1:])]
+                        jax.ffi.register_ffi_target(target, handler, platform="cpu")
+                        REGISTERED.add(target)
+                    self.compiled[k] = target
                 self.pending = []
-            return self.compiled[key].function
-
-
-def evaluate(c, shape: tuple[int, int], q, u, ud, p) -> np.ndarray:
-    """C function `c` at states q, u, ud with leading batch axes (broadcast and flattened into one
-    batch), p shared by all states or per state (one call per distinct row)."""
-    q, u, ud, p = (np.asarray(x, np.float64) for x in (q, u, ud, p))
-    lead = np.broadcast_shapes(*(x.shape[:-1] for x in (q, u, ud, p)))
-    if not lead:
-        return c(q, u, ud, p if p.size else None, None)
-    q, u, ud = (np.broadcast_to(x, lead + x.shape[-1:]).reshape(-1, x.shape[-1]) for x in (q, u, ud))
-    if math.prod(p.shape[:-1]) == 1:
-        return c(q, u, ud, p.reshape(-1) if p.size else None, None).reshape(lead + shape)
-    rows, group = np.unique(np.broadcast_to(p, lead + p.shape[-1:]).reshape(-1, p.shape[-1]), axis=0,
-                            return_inverse=True)
-    group = group.ravel()
-    out = np.empty((len(group), *shape))
-    for k, row in enumerate(rows):
-        at = group == k
-        out[at] = c(q[at], u[at], ud[at], row, None)
-    return out.reshape(lead + shape)
+            return self.compiled[key]
 
 
 def kernel_function(traced, key: str, shape: tuple[int, int], kernels: Kernels):
     """`traced` (q, u, ud, p) → array of `shape`, with its values from the C function `key` on CPU (module
     doc), jitted (its first call compiles the branch of the platform only)."""
     import jax
+    import jax.ffi
 
     kernels.add(key)
 
     def on_cpu(q, u, ud, p):
-        result = jax.ShapeDtypeStruct(shape, q.dtype)
-
-        def host(*args):
-            return evaluate(kernels.function(key), shape, *args).astype(result.dtype, copy=False)
-        return jax.pure_callback(host, result, q, u, ud, p, vmap_method="expand_dims")
+        c = jax.ffi.ffi_call(kernels.target(key), jax.ShapeDtypeStruct(shape, np.float64),
+                             vmap_method="expand_dims")
+        return c(*(x.astype(np.float64) for x in (q, u, ud, p))).astype(q.dtype)
 
     def batched(size: int, in_batched: list[bool], *args):
         """vmap: the C batch on CPU; a nested vmap batches this rule's vmap (one callback)."""
