@@ -94,15 +94,10 @@ def kernel_function(traced, key: str, shape: tuple[int, int], kernels: Kernels):
                              vmap_method="expand_dims")
         return c(*(x.astype(np.float64) for x in (q, u, ud, p))).astype(q.dtype)
 
-    def batched(size: int, in_batched: list[bool], *args):
-        """vmap: the C batch on CPU; a nested vmap batches this rule's vmap (one callback)."""
-        def value(*args):
-            return jax.lax.platform_dependent(*args, cpu=on_cpu, default=traced)
-        return jax.vmap(value, [0 if b else None for b in in_batched])(*args), True
+    @jax.custom_jvp
+    def f(q, u, ud, p):
+        return jax.lax.platform_dependent(q, u, ud, p, cpu=on_cpu, default=traced)
 
-    value = jax.custom_batching.custom_vmap(traced)  # not vmapped: the traced graph
-    value.def_vmap(batched)
-    f = jax.custom_jvp(lambda q, u, ud, p: value(q, u, ud, p))
     # the tangent needs the traced graph's intermediates: its primal comes with them at no extra cost
     f.defjvp(lambda primals, tangents: jax.jvp(traced, primals, tangents))
     return jax.jit(f)

@@ -61,8 +61,9 @@ static XLA_FFI_Error *ffi_evaluate(XLA_FFI_CallFrame *frame, eomgen_fn f, int i,
     }
     if (frame->stage != XLA_FFI_ExecutionStage_EXECUTE)
         return NULL;
-    static const char *messages[4] = {"q: contains NaN or infinite values", "u: contains NaN or infinite values",
-                                      "ud: contains NaN or infinite values", "p: contains NaN or infinite values"};
+    static const char *messages[4] = {
+        "q: contains NaN or infinite values", "u: contains NaN or infinite values",
+        "ud: contains NaN or infinite values", "p: contains NaN or infinite values"};
     const int64_t widths[4] = {NQ, NV, NV, NP};
     XLA_FFI_Buffer *out = frame->rets.rets[0], **x = (XLA_FFI_Buffer **)frame->args.args;
     int L = (int)out->rank - 2;
