@@ -1,18 +1,20 @@
 """The C kernels under JAX: on CPU, a catalogue function's values come from the C backend's compiled
-function (`printers.c_extension`: N states in one call of its vector batches), called from JAX by
-`jax.pure_callback`; its derivatives are those of the traced graph (`printers.traced`):
+function, called by XLA through its FFI (`printers.ffi`: a handler in the extension module that reads
+XLA's input buffers and writes into its output buffer; no host callback, no copy); its derivatives
+are those of the traced graph (`printers.traced`):
 
     f(x) = C(x) on CPU, traced(x) on any other platform   (`jax.lax.platform_dependent`, at lowering)
-    jvp:  (f(x), ∂f(x)·ẋ) = jax.jvp(traced, x, ẋ)          (so jit, vmap, jacfwd and grad go through)
+    jvp:  (f(x), ∂f(x)·ẋ) = jax.jvp(traced, (x,), (ẋ,))    (so jit, vmap, jacfwd and grad go through)
 
-Under `jax.vmap` the callback receives the inputs with their batch axes (`vmap_method="expand_dims"`):
-the states' leading axes are broadcast and flattened into ONE batch of the C function; a parameter
-vector not mapped is passed once, mapped ones per group of equal rows. The C functions are compiled on
-the first call on CPU: those printed until then in one module (`Kernels`; as the C backend groups
-them: M, b, g, nle and the frames of derive(frames=...) together, `generate(keys)` together). The C
-function checks its inputs: a NaN or infinite state raises (naming q, u or ud; a ValueError or a
-JaxRuntimeError) where the traced graph returns NaN. float32: the kernels compute in float64, their
-values rounded to float32."""
+One state is one FFI call (11 µs for ur5's M under jit). Under `jax.vmap` the call receives the inputs
+with their batch axes (`vmap_method="expand_dims"`: an input not mapped has axes of size 1): the
+states' axes are broadcast into ONE batch of the C function (nested vmaps too); a parameter vector not
+mapped is passed once, mapped ones state by state. The C functions are compiled when the first of them
+is traced (jit): those printed until then in one module (`Kernels`; as the C backend groups them: M,
+b, g, nle and the frames of derive(frames=...) together, `generate(keys)` together), their handlers
+registered with XLA. The C function checks its inputs: a NaN or infinite value raises (naming q, u,
+ud or p; a ValueError or a JaxRuntimeError) where the traced graph returns NaN. float32: the kernels
+compute in float64, their values rounded to float32."""
 from __future__ import annotations
 
 import threading
@@ -46,9 +48,9 @@ def kernels_for(kernels: str | None) -> str:
 
 
 class Kernels:
-    """The C functions of a catalogue as XLA FFI targets, compiled on the first trace of one of them on
-    CPU: every function added until then in one extension module (`printers.ffi`), once (threads wait
-    on a lock), its handlers registered with XLA."""
+    """The C functions of a catalogue as XLA FFI targets, compiled on the first trace of one of them:
+    every function added until then in one extension module (`printers.ffi`), once (threads wait on a
+    lock), its handlers registered with XLA as "<module>_m<i>"."""
 
     def __init__(self, catalogue: Catalogue) -> None:
         self.catalogue = catalogue
@@ -69,11 +71,10 @@ class Kernels:
             if key not in self.compiled:
                 keys = list(dict.fromkeys([*self.pending, key]))
                 functions = ExtensionPrinter(self.catalogue, ffi=True).print(keys)
-                for k, generated in functions.items():
-                    module, name = generated.function.__self__, generated.function.__name__
-                    target = f"{module.__name__}_{name}"
+                module = next(iter(functions.values())).function.__self__
+                for (k, generated), handler in zip(functions.items(), module._ffi()):
+                    target = f"{module.__name__}_{generated.function.__name__}"
                     if target not in REGISTERED:  # once per process
-                        handler = module._ffi()[int(name[1:])]
                         jax.ffi.register_ffi_target(target, handler, platform="cpu")
                         REGISTERED.add(target)
                     self.compiled[k] = target
