@@ -5,6 +5,11 @@ vmap), jacfwd of the forward dynamics equals forward_dynamics_derivatives to 1e-
 central difference of NumPy's M; on any other platform the traced graph (lowered for CUDA: no callback)."""
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+from pathlib import Path
+
 import jax
 import numpy as np
 import pytest
@@ -137,3 +142,26 @@ def test_the_default_and_refusals(monkeypatch):
     assert eg.codegen(eom, backend="jax").kernels == "xla"
     with pytest.raises(eg.ModelError, match="kernels='c': no C compiler found"):
         eg.codegen(eom, backend="jax", kernels="c")
+
+
+FLOAT32 = """
+import numpy as np, jax, eomgen as eg
+from test_catalogue import PARAMS, everything
+eom = everything(False)
+f32 = eg.codegen(eom, backend="jax", dtype="float32", params={k: v for k, v in PARAMS.items() if k != "i_m"})
+Q = eg.random_states(eom.system, 4, np.random.default_rng(1))[0]
+M, reference = [np.asarray(f32.M(Q)), np.asarray(f32.M(Q[0]))], eg.codegen(eom).M(Q, PARAMS)
+print(jax.config.jax_enable_x64, M[0].dtype, M[1].dtype,
+      max(np.abs(M[0] - reference).max(), np.abs(M[1] - reference[0]).max()) / np.abs(reference).max())
+"""
+
+
+def test_float32_without_64_bit_mode():
+    """dtype="float32" in a process where JAX's 64-bit mode is off: the C kernels get float32 buffers,
+    compute in float64 and round (a float32 buffer read as float64 would give wrong values)."""
+    tests = str(Path(__file__).parent)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([tests, os.environ.get("PYTHONPATH", "")])}
+    result = subprocess.run([sys.executable, "-c", FLOAT32], env=env, capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    x64, one, batch, error = result.stdout.split()
+    assert (x64, one, batch) == ("False", "float32", "float32") and float(error) < 1e-6

@@ -91,9 +91,10 @@ def kernel_function(traced, key: str, shape: tuple[int, int], kernels: Kernels):
     kernels.add(key)
 
     def on_cpu(q, u, ud, p):
-        c = jax.ffi.ffi_call(kernels.target(key), jax.ShapeDtypeStruct(shape, np.float64),
+        dtype = jax.dtypes.canonicalize_dtype(np.float32 if q.dtype == np.float32 else np.float64)
+        c = jax.ffi.ffi_call(kernels.target(key), jax.ShapeDtypeStruct(shape, dtype),
                              vmap_method="expand_dims")
-        return c(*(x.astype(np.float64) for x in (q, u, ud, p))).astype(q.dtype)
+        return c(*(x.astype(dtype) for x in (q, u, ud, p)))
 
     @jax.custom_jvp
     def f(q, u, ud, p):
