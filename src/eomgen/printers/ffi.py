@@ -72,8 +72,8 @@ static int run(eomgen_fn f, int i, const int *idx, int nt, int64_t size, XLA_FFI
         failed = batch(f, idx, nt, size, n, in[0], in[1], su, in[2], sud, in[3], out);
     else  /* one state, or a p per state */
         for (int64_t k = 0; k < n; ++k)
-            one_state(f, idx, nt, in[0] + k * NQ, in[1] + k * su, in[2] + k * sud, in[3] + (count[3] > 1) * k * NP,
-                      out + k * size);
+            one_state(f, idx, nt, in[0] + k * NQ, in[1] + k * su, in[2] + k * sud,
+                      in[3] + (count[3] > 1) * k * NP, out + k * size);
     for (int k = 0; k < 4; ++k)
         free(copies[k]);
     return failed ? -1 : 0;
