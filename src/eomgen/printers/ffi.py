@@ -14,6 +14,21 @@ from __future__ import annotations
 
 FFI = r"""
 #include "xla/ffi/api/c_api.h"
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+/* Transparent huge pages for a large output not touched yet, as NumPy asks for its arrays (4 MB and
+   more): a fresh buffer then costs one page fault per 2 MB instead of per 4 kB (XLA's 268 MB output of
+   talos's M: 0.15 s of faults without) */
+static void huge_pages(void *data, size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    uintptr_t start = ((uintptr_t)data + 4095) & ~(uintptr_t)4095;
+    if (bytes >= (4u << 20) && start < (uintptr_t)data + bytes)
+        madvise((void *)start, (uintptr_t)data + bytes - start, MADV_HUGEPAGE);
+#endif
+}
 
 static XLA_FFI_Error *ffi_error(XLA_FFI_CallFrame *frame, const char *message)
 {
@@ -138,6 +153,7 @@ static XLA_FFI_Error *ffi_evaluate(XLA_FFI_CallFrame *frame, eomgen_fn f, int i,
         }
     }
     double *o = out->data;
+    huge_pages(out->data, (size_t)(n * size) * (type == XLA_FFI_DataType_F32 ? 4 : 8));
     if (type == XLA_FFI_DataType_F32 && !failed) {
         o = data[4] = malloc(sizeof(double) * (size_t)(n * size));
         failed = o == NULL;
