@@ -8,8 +8,8 @@ with JAX's vmap "expand_dims" convention: every input has the output's batch axe
 1 (broadcast); one state when B is empty. Inputs broadcast are gathered; u, ud or a p shared by all
 states are passed once, a p per state evaluates one state at a time. float64 or float32 buffers (the
 latter computed in float64, rounded). A NaN or infinite input is an INVALID_ARGUMENT error naming q,
-u, ud or p. `_ffi()` attaches the vector functions (`vector`) and
-returns the handlers' capsules, in the functions' order."""
+u, ud or p. A large output gets transparent huge pages (as NumPy's arrays). `_ffi()` attaches the
+vector functions (`vector`) and returns the handlers' capsules, in the functions' order."""
 from __future__ import annotations
 
 FFI = r"""
