@@ -1,21 +1,22 @@
 """The C kernels under JAX: on CPU, a catalogue function's values come from the C backend's compiled
-function (`printers.c_extension`: N states in one call of its vector batches), called from JAX by
-`jax.pure_callback`; its derivatives are those of the traced graph (`printers.traced`):
+function, called by XLA through its FFI (`printers.ffi`: a handler in the extension module that reads
+XLA's input buffers and writes into its output buffer; no host callback, no copy); its derivatives
+are those of the traced graph (`printers.traced`):
 
     f(x) = C(x) on CPU, traced(x) on any other platform   (`jax.lax.platform_dependent`, at lowering)
-    jvp:  (f(x), ∂f(x)·ẋ) = jax.jvp(traced, x, ẋ)          (so jit, vmap, jacfwd and grad go through)
+    jvp:  (f(x), ∂f(x)·ẋ) = jax.jvp(traced, (x,), (ẋ,))    (so jit, vmap, jacfwd and grad go through)
 
-Under `jax.vmap` the callback receives the inputs with their batch axes (`vmap_method="expand_dims"`):
-the states' leading axes are broadcast and flattened into ONE batch of the C function; a parameter
-vector not mapped is passed once, mapped ones per group of equal rows. The C functions are compiled on
-the first call on CPU: those printed until then in one module (`Kernels`; as the C backend groups
-them: M, b, g, nle and the frames of derive(frames=...) together, `generate(keys)` together). The C
-function checks its inputs: a NaN or infinite state raises (naming q, u or ud; a ValueError or a
-JaxRuntimeError) where the traced graph returns NaN. float32: the kernels compute in float64, their
-values rounded to float32."""
+One state is one FFI call (11 µs for ur5's M under jit). Under `jax.vmap` the call receives the inputs
+with their batch axes (`vmap_method="expand_dims"`: an input not mapped has axes of size 1): the
+states' axes are broadcast into ONE batch of the C function (nested vmaps too); a parameter vector not
+mapped is passed once, mapped ones state by state. The C functions are compiled when the first of them
+is traced (jit): those printed until then in one module (`Kernels`; as the C backend groups them: M,
+b, g, nle and the frames of derive(frames=...) together, `generate(keys)` together), their handlers
+registered with XLA. The C function checks its inputs: a NaN or infinite value raises (naming q, u,
+ud or p; a ValueError or a JaxRuntimeError) where the traced graph returns NaN. float32: the kernels
+compute in float64, their values rounded to float32."""
 from __future__ import annotations
 
-import math
 import threading
 
 import numpy as np
@@ -26,6 +27,7 @@ from ..printers.build.extension import compiler, python_headers
 from ..printers.c_extension import ExtensionPrinter
 
 KERNELS = ("c", "xla")
+REGISTERED: set[str] = set()  # the FFI targets registered with XLA in this process
 
 
 def kernels_for(kernels: str | None) -> str:
@@ -46,13 +48,14 @@ def kernels_for(kernels: str | None) -> str:
 
 
 class Kernels:
-    """The C functions of a catalogue, compiled on the first call of one of them: every function added
-    until then in one extension module (with vector batches), once (threads wait on a lock)."""
+    """The C functions of a catalogue as XLA FFI targets, compiled on the first trace of one of them:
+    every function added until then in one extension module (`printers.ffi`), once (threads wait on a
+    lock), its handlers registered with XLA as "<module>_m<i>"."""
 
     def __init__(self, catalogue: Catalogue) -> None:
         self.catalogue = catalogue
         self.pending: list[str] = []
-        self.compiled: dict = {}
+        self.compiled: dict[str, str] = {}
         self._lock = threading.Lock()
 
     def add(self, key: str) -> None:
@@ -60,49 +63,38 @@ class Kernels:
             if key not in self.compiled and key not in self.pending:
                 self.pending.append(key)
 
-    def function(self, key: str):
-        """The compiled function `key`: (q, u, ud, p, out) → its matrix, one state or N."""
+    def target(self, key: str) -> str:
+        """The name of the FFI target of function `key`: (q, u, ud, p) → out (`printers.ffi`)."""
+        import jax.ffi
+
         with self._lock:
             if key not in self.compiled:
                 keys = list(dict.fromkeys([*self.pending, key]))
-                self.compiled.update(ExtensionPrinter(self.catalogue).print(keys))
+                functions = ExtensionPrinter(self.catalogue, ffi=True).print(keys)
+                module = next(iter(functions.values())).function.__self__
+                for (k, generated), handler in zip(functions.items(), module._ffi()):
+                    target = f"{module.__name__}_{generated.function.__name__}"
+                    if target not in REGISTERED:  # once per process
+                        jax.ffi.register_ffi_target(target, handler, platform="cpu")
+                        REGISTERED.add(target)
+                    self.compiled[k] = target
                 self.pending = []
-            return self.compiled[key].function
-
-
-def evaluate(c, shape: tuple[int, int], q, u, ud, p) -> np.ndarray:
-    """C function `c` at states q, u, ud with leading batch axes (broadcast and flattened into one
-    batch), p shared by all states or per state (one call per distinct row)."""
-    q, u, ud, p = (np.asarray(x, np.float64) for x in (q, u, ud, p))
-    lead = np.broadcast_shapes(*(x.shape[:-1] for x in (q, u, ud, p)))
-    if not lead:
-        return c(q, u, ud, p if p.size else None, None)
-    q, u, ud = (np.broadcast_to(x, lead + x.shape[-1:]).reshape(-1, x.shape[-1]) for x in (q, u, ud))
-    if math.prod(p.shape[:-1]) == 1:
-        return c(q, u, ud, p.reshape(-1) if p.size else None, None).reshape(lead + shape)
-    rows, group = np.unique(np.broadcast_to(p, lead + p.shape[-1:]).reshape(-1, p.shape[-1]), axis=0,
-                            return_inverse=True)
-    group = group.ravel()
-    out = np.empty((len(group), *shape))
-    for k, row in enumerate(rows):
-        at = group == k
-        out[at] = c(q[at], u[at], ud[at], row, None)
-    return out.reshape(lead + shape)
+            return self.compiled[key]
 
 
 def kernel_function(traced, key: str, shape: tuple[int, int], kernels: Kernels):
     """`traced` (q, u, ud, p) → array of `shape`, with its values from the C function `key` on CPU (module
     doc), jitted (its first call compiles the branch of the platform only)."""
     import jax
+    import jax.ffi
 
     kernels.add(key)
 
     def on_cpu(q, u, ud, p):
-        result = jax.ShapeDtypeStruct(shape, q.dtype)
-
-        def host(*args):
-            return evaluate(kernels.function(key), shape, *args).astype(result.dtype, copy=False)
-        return jax.pure_callback(host, result, q, u, ud, p, vmap_method="expand_dims")
+        dtype = jax.dtypes.canonicalize_dtype(np.float32 if q.dtype == np.float32 else np.float64)
+        c = jax.ffi.ffi_call(kernels.target(key), jax.ShapeDtypeStruct(shape, dtype),
+                             vmap_method="expand_dims")
+        return c(*(x.astype(dtype) for x in (q, u, ud, p)))
 
     @jax.custom_jvp
     def f(q, u, ud, p):

@@ -2,7 +2,8 @@
 asked), compiled into one CPython extension module (`build.extension`) and called directly, one state
 per call or N states in one call; their vector functions (`vector`) compiled into a second module on the
 first batch. A composite (the forward dynamics' derivatives) is printed from its parts' C
-(`forward_c`), which must be printed in the same module."""
+(`forward_c`), which must be printed in the same module. With ffi=True the module also holds the
+functions as XLA FFI handlers (`ffi`: its `_ffi()`), for JAX."""
 from __future__ import annotations
 
 import dataclasses
@@ -13,6 +14,7 @@ from ..errors import ModelError
 from ..functions import Catalogue
 from ..progress import progress
 from .build.extension import build, compile_module, compiled
+from .ffi import handlers
 from .forward_c import forward_derivatives_source
 from .syntax import C_TRIG
 from .vector import C_VECTOR, TYPES, lanes_source, vector_sources
@@ -22,8 +24,8 @@ from .walker import Generated, writer
 class ExtensionPrinter:
     """Prints functions of one catalogue into extension modules (`print`)."""
 
-    def __init__(self, catalogue: Catalogue, batches: bool = True) -> None:
-        self.catalogue = catalogue
+    def __init__(self, catalogue: Catalogue, batches: bool = True, ffi: bool = False) -> None:
+        self.catalogue, self.ffi = catalogue, ffi
         self._c, self._lanes = writer(catalogue, C_TRIG), writer(catalogue, C_VECTOR) if batches else None
         self.sizes = tuple(len(catalogue.inputs[x]) for x in ("q", "u", "p"))
 
@@ -48,7 +50,7 @@ class ExtensionPrinter:
         def lanes() -> list[str | None]:  # on the first batch
             printing = progress(exprs, "printing vector C", unit="function")
             return vector_sources(self._lanes, printing, len(exprs))
-        functions = extension_functions(written, *self.sizes, lanes if self._lanes else None)
+        functions = extension_functions(written, *self.sizes, lanes if self._lanes else None, self.ffi)
         for key, i in index.items():  # a composite reads the parameters its parts read
             fn = self.catalogue[key]
             if fn.composite:
@@ -58,11 +60,20 @@ class ExtensionPrinter:
 
 
 def extension_functions(written: list, nq: int, nv: int, n_params: int,
-                        lanes: Callable[[], list[str | None]] | None = None) -> dict[str, Generated]:
+                        lanes: Callable[[], list[str | None]] | None = None,
+                        ffi: bool = False) -> dict[str, Generated]:
     """The written functions [(key, C source of e<i>, shape, operations, trig indices)], compiled into
-    one extension module; with `lanes`, the C of their vector functions w<i> (`vector.vector_sources`),
-    compiled into a second module on the first batch."""
-    module = build([(source, shape, trig) for _, source, shape, _, trig in written], nq, nv, n_params)
+    one extension module (with `ffi`, their XLA FFI handlers too); with `lanes`, the C of their vector
+    functions w<i> (`vector.vector_sources`), compiled into a second module on the first batch."""
+    functions = [(source, shape, trig) for _, source, shape, _, trig in written]
+    if ffi:
+        import jax.ffi
+        import jaxlib
+
+        glue = handlers([(shape, len(trig)) for _, shape, trig in functions], jaxlib.__version__)
+        module = build(functions, nq, nv, n_params, glue, (jax.ffi.include_dir(),))
+    else:
+        module = build(functions, nq, nv, n_params)
 
     def attach() -> None:  # on the first batch
         try:

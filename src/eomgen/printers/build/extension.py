@@ -238,6 +238,19 @@ static PyObject *set_hook(PyObject *self, PyObject *callable)
     Py_RETURN_NONE;
 }
 
+/* the hook called once (then cleared): 0, or -1 with its exception */
+static int run_hook(void)
+{
+    if (hook == NULL)
+        return 0;
+    PyObject *h = hook, *done;
+    hook = NULL;
+    done = PyObject_CallNoArgs(h);
+    Py_DECREF(h);
+    Py_XDECREF(done);
+    return done == NULL ? -1 : 0;
+}
+
 static PyObject *evaluate(eomgen_fn f, int i, const int *idx, int nt, npy_intp rows, npy_intp cols,
                           int vector, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -261,15 +274,8 @@ static PyObject *evaluate(eomgen_fn f, int i, const int *idx, int nt, npy_intp r
         PyErr_SetString(PyExc_TypeError, "p: the parameter values are required");
         goto done;
     }
-    if (nd == 2 && hook != NULL) {  /* the first batch */
-        PyObject *h = hook, *done_hook;
-        hook = NULL;
-        done_hook = PyObject_CallNoArgs(h);
-        Py_DECREF(h);
-        if (done_hook == NULL)
-            goto done;
-        Py_DECREF(done_hook);
-    }
+    if (nd == 2 && run_hook() < 0)  /* the first batch */
+        goto done;
     eomgen_vfn v = nd == 2 ? lanes[i] : NULL;  /* W states at a time, every entry written */
     npy_intp dims[3] = {n, rows, cols}, *shape = nd == 2 ? dims : dims + 1;
     if (nargs == 5 && args[4] != Py_None) {
@@ -368,10 +374,11 @@ def cache_dir() -> Path:
     return folder
 
 
-def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int) -> str:
+def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int,
+                  extra: tuple[str, list[str]] = ("", [])) -> str:
     """The extension module `name`: the functions (C text of `e<i>`, output shape, the k of the sin(q[k])
     and cos(q[k]) it reads) and their wrappers; `_attach` and `_hook` take the vector functions
-    (`vector`)."""
+    (`vector`); `extra`: more glue after the functions and its entries in the method table."""
     sizes = f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n#define NF {len(functions)}\n"
     parts = [sizes, PRELUDE, TYPES, DRIVER, EVALUATE]
     table = ['    {"_attach", attach, METH_O, NULL},', '    {"_hook", set_hook, METH_O, NULL},']
@@ -383,6 +390,8 @@ def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: 
                          f"{{ return evaluate(e{i}, {i}, t{i}, {len(trig)}, {rows}, {cols}, {column}, args, "
                          "nargs); }\n")
             table.append(f'    {{"{kind}{i}", (PyCFunction)(void (*)(void)){kind}{i}, METH_FASTCALL, NULL}},')
+    parts.append(extra[0])
+    table.extend(extra[1])
     parts.append("static PyMethodDef methods[] = {\n" + "\n".join(table) + "\n    {NULL, NULL, 0, NULL}\n};\n"
                  f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, methods}};\n'
                  f"PyMODINIT_FUNC PyInit_{name}(void)\n{{\n    import_array();\n    return PyModule_Create(&module);\n}}\n")
@@ -405,13 +414,13 @@ def intact(target: Path) -> bool:
         return False
 
 
-def compile_module(glue: str, units: list[Unit], target: Path) -> None:
-    """Compile the module (`compile.build_library`) in a temp folder beside `target`, move it in (an atomic
-    rename; a concurrent writer leaves the same bytes), then its checksum."""
+def compile_module(glue: str, units: list[Unit], target: Path, include: tuple[str, ...] = ()) -> None:
+    """Compile the module (`compile.build_library`; more header folders `include`) in a temp folder beside
+    `target`, move it in (an atomic rename; a concurrent writer leaves the same bytes), then its checksum."""
     with tempfile.TemporaryDirectory(dir=target.parent) as tmp:  # same file system: the moves are renames
         so_file = Path(tmp) / target.name
-        build_library(compiler(), glue, units, [f"-I{python_headers()}", f"-I{np.get_include()}"], ATTEMPTS,
-                      Path(tmp), so_file)
+        headers = [f"-I{folder}" for folder in (python_headers(), np.get_include(), *include)]
+        build_library(compiler(), glue, units, headers, ATTEMPTS, Path(tmp), so_file)
         digest = Path(tmp) / "sha256"
         digest.write_text(sha256(so_file) + "\n")
         os.replace(so_file, target)
@@ -439,18 +448,21 @@ def load(name: str, target: Path):
     return module
 
 
-def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int):
-    """The extension module of `functions` (see `module_source`): their definitions compiled as translation
-    units in parallel (`compile`) and linked with the module's glue, once (`compiled`)."""
+def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_params: int,
+          extra: tuple[str, list[str]] = ("", []), include: tuple[str, ...] = ()):
+    """The extension module of `functions` (see `module_source`; `extra` glue, compiled with the header
+    folders `include`): their definitions compiled as translation units in parallel (`compile`) and linked
+    with the module's glue, once (`compiled`)."""
     header, units = translation_units([source for source, _, _ in functions])
     layout = [(optimisation(unit), unit.text) for unit in units]
     shapes = [(shape, trig) for _, shape, trig in functions]
 
     def make(name: str, target: Path) -> None:
         entries = [(header if i == 0 else "", shape, trig) for i, (shape, trig) in enumerate(shapes)]
-        compile_module(module_source(name, entries, nq, nv, n_params), units, target)
+        compile_module(module_source(name, entries, nq, nv, n_params, extra), units, target, include)
 
     content = (PRELUDE, TYPES, DRIVER, EVALUATE, header, layout, shapes, nq, nv, n_params)
+    content += (extra, include) if include else ()
     return compiled(content, make)
 
 
