@@ -144,6 +144,24 @@ def test_the_default_and_refusals(monkeypatch):
         eg.codegen(eom, backend="jax", kernels="c")
 
 
+def test_c_kernels_that_do_not_build_fall_back_with_a_warning_or_refuse(monkeypatch, tmp_path):
+    """An XLA FFI header the glue cannot use (here: none at all): by default a warning naming the cause
+    and the traced graph on CPU (the values still NumPy's); kernels="c" asked for: a ModelError."""
+    system = eg.System()  # a model of this test alone: no module of it built or loaded before
+    link = system.add_body("link", joint=eg.Revolute("swing", axis=(1, 0, 0)), mass=1.2345, com=(0, 0, -0.3))
+    system.add_body("tip", parent=link, joint=eg.Revolute("bend", axis=(0, 1, 0)), mass=0.5,
+                    com=(0, 0, -0.2), placement=eg.Placement(translation=(0, 0, -0.6)))
+    eom = eg.derive(system)
+    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
+    monkeypatch.setattr(jax.ffi, "include_dir", lambda: str(tmp_path / "no-headers"))
+    q = np.array([0.3, -0.7])
+    with pytest.warns(UserWarning, match="(?s)the C kernels do not build with JAX .* graph on CPU too"):
+        M = eg.codegen(eom, backend="jax").M(q)
+    close(M, eg.codegen(eom).M(q), 1e-12, "M")
+    with pytest.raises(eg.ModelError, match="kernels='c': the C kernels do not build with JAX"):
+        eg.codegen(eom, backend="jax", kernels="c").M(q)
+
+
 FLOAT32 = """
 import numpy as np, jax, eomgen as eg
 from test_catalogue import PARAMS, everything

@@ -41,7 +41,7 @@ class JaxPrinted:
 
         if dtype not in DTYPES:
             raise ModelError(f"dtype: expected one of {list(DTYPES)}, got {dtype!r}")
-        self.kernels = kernels_for(kernels)
+        self.kernels, self._asked = kernels_for(kernels), kernels
         if dtype == "float64":
             jax.config.update("jax_enable_x64", True)
         self.dtype = dtype
@@ -49,7 +49,8 @@ class JaxPrinted:
 
     def _print(self, keys: list[str]) -> None:
         traced = writer(self.catalogue, TRACED)
-        c = vars(self).setdefault("_c", Kernels(self.catalogue))  # compiles nothing until a call on CPU
+        c = vars(self).setdefault("_c", Kernels(self.catalogue, required=self._asked == "c"))  # compiles
+        # nothing until a call on CPU
         for key in keys:
             fn = self.catalogue.printable(key)
             expr = fn.expression()

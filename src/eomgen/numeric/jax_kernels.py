@@ -18,6 +18,7 @@ compute in float64, their values rounded to float32."""
 from __future__ import annotations
 
 import threading
+import warnings
 
 import numpy as np
 
@@ -50,10 +51,12 @@ def kernels_for(kernels: str | None) -> str:
 class Kernels:
     """The C functions of a catalogue as XLA FFI targets, compiled on the first trace of one of them:
     every function added until then in one extension module (`printers.ffi`), once (threads wait on a
-    lock), its handlers registered with XLA as "<module>_m<i>"."""
+    lock), its handlers registered with XLA as "<module>_m<i>". Where the module does not build (an XLA
+    FFI header this glue does not know, say): a ModelError if the kernels were asked for (`required`),
+    else a warning, once, and the traced graph on CPU too (`target` None)."""
 
-    def __init__(self, catalogue: Catalogue) -> None:
-        self.catalogue = catalogue
+    def __init__(self, catalogue: Catalogue, required: bool = False) -> None:
+        self.catalogue, self.required, self.failed = catalogue, required, False
         self.pending: list[str] = []
         self.compiled: dict[str, str] = {}
         self._lock = threading.Lock()
@@ -63,14 +66,26 @@ class Kernels:
             if key not in self.compiled and key not in self.pending:
                 self.pending.append(key)
 
-    def target(self, key: str) -> str:
-        """The name of the FFI target of function `key`: (q, u, ud, p) → out (`printers.ffi`)."""
+    def target(self, key: str) -> str | None:
+        """The name of the FFI target of function `key`: (q, u, ud, p) → out (`printers.ffi`); None where
+        the module does not build (the class's text)."""
         import jax.ffi
 
         with self._lock:
+            if self.failed:
+                return None
             if key not in self.compiled:
                 keys = list(dict.fromkeys([*self.pending, key]))
-                functions = ExtensionPrinter(self.catalogue, ffi=True).print(keys)
+                try:
+                    functions = ExtensionPrinter(self.catalogue, ffi=True).print(keys)
+                except ModelError as failure:
+                    reason = f"the C kernels do not build with JAX {jax.__version__}: {failure}"[:1500]
+                    if self.required:
+                        raise ModelError(f"kernels='c': {reason}") from None
+                    warnings.warn(f"{reason}; the JAX functions evaluate the traced graph on CPU too "
+                                  "(kernels='xla')", stacklevel=2)
+                    self.failed = True
+                    return None
                 module = next(iter(functions.values())).function.__self__
                 for (k, generated), handler in zip(functions.items(), module._ffi()):
                     target = f"{module.__name__}_{generated.function.__name__}"
@@ -91,9 +106,11 @@ def kernel_function(traced, key: str, shape: tuple[int, int], kernels: Kernels):
     kernels.add(key)
 
     def on_cpu(q, u, ud, p):
+        target = kernels.target(key)
+        if target is None:
+            return traced(q, u, ud, p)
         dtype = jax.dtypes.canonicalize_dtype(np.float32 if q.dtype == np.float32 else np.float64)
-        c = jax.ffi.ffi_call(kernels.target(key), jax.ShapeDtypeStruct(shape, dtype),
-                             vmap_method="expand_dims")
+        c = jax.ffi.ffi_call(target, jax.ShapeDtypeStruct(shape, dtype), vmap_method="expand_dims")
         return c(*(x.astype(dtype) for x in (q, u, ud, p)))
 
     @jax.custom_jvp

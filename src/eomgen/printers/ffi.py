@@ -18,6 +18,14 @@ FFI = r"""
 #include <sys/mman.h>
 #endif
 
+/* The call frame's extension: XLA_FFI_Extension_Base up to the C API 0.3 (JAX 0.10), renamed
+   XLA_FFI_InternalExtension from 0.4 (JAX 0.11); the same fields (struct_size, type, next). */
+#if XLA_FFI_API_MAJOR == 0 && XLA_FFI_API_MINOR < 4
+typedef XLA_FFI_Extension_Base eomgen_extension;
+#else
+typedef XLA_FFI_InternalExtension eomgen_extension;
+#endif
+
 /* Transparent huge pages for a large output not touched yet, as NumPy asks for its arrays (4 MB and
    more): a fresh buffer then costs one page fault per 2 MB instead of per 4 kB (XLA's 268 MB output of
    talos's M: 0.15 s of faults without) */
@@ -110,7 +118,7 @@ static int widen(const XLA_FFI_Buffer *x, int64_t size, XLA_FFI_Buffer *as, doub
 static XLA_FFI_Error *ffi_evaluate(XLA_FFI_CallFrame *frame, eomgen_fn f, int i, const int *idx, int nt,
                                    int64_t size)
 {
-    XLA_FFI_Extension_Base *extension = frame->extension_start;
+    eomgen_extension *extension = frame->extension_start;
     if (extension != NULL && extension->type == XLA_FFI_Extension_Metadata) {  /* XLA asks the version */
         XLA_FFI_Metadata *metadata = ((XLA_FFI_Metadata_Extension *)extension)->metadata;
         metadata->api_version = (XLA_FFI_Api_Version){XLA_FFI_Api_Version_STRUCT_SIZE, NULL,
