@@ -119,6 +119,7 @@ def test_every_fixed_base_robot_has_its_numerical_rank_and_grouping(name):
         assert base.grouping is not None and len(base.grouping.names) == base.rank, base.note
 
 
+@pytest.mark.slow  # the default run shows the 43 by the grouping on Pinocchio's regressor (test_grouping)
 def test_the_panda_arm_has_43_base_inertial_parameters():
     """The Franka Emika Panda, fingers locked (the hand welded to link 7): the 43 base inertial parameters
     of Gaz, Cognetti, Oliva, Robuffo Giordano and De Luca (IEEE RA-L 2019), all given by the grouping."""
