@@ -79,12 +79,28 @@ def links(system: System) -> dict:
     world carry no column."""
     out: dict = {}
     for b in system.bodies:
-        carrier = b
-        while carrier is not None and not carrier.speed_indices:
-            carrier = carrier.parent
+        carrier = b if b.speed_indices else up_to_link(b, sp.eye(3), sp.zeros(3, 1))[0]
         if carrier is not None:
             out.setdefault(carrier, []).append(b)
     return out
+
+
+def up_to_link(body, R: sp.Matrix, t: sp.Matrix) -> tuple:
+    """(the link carrying `body`'s parent or None for the world, R, t): x_parent = R x + t carried up
+    through the fixed joints above to that link's axes (x_link = R' x + t')."""
+    parent = body.parent
+    while parent is not None and not parent.speed_indices:
+        P = parent.placement
+        R_q, t_q = parent.joint.motion()
+        R_p = matmul(P.rotation, R_q)
+        R, t = matmul(R_p, R), matmul(R_p, t) + P.translation + matmul(P.rotation, t_q)
+        parent = parent.parent
+    return parent, R, t
+
+
+def ten(m, h, I_O) -> list:
+    """A link's ten parameters in Pinocchio's order from (m, h, I_O)."""
+    return [m, *h, *(I_O[j, k] for j, k in UNIT)]
 
 
 def speeds(system: System) -> list[tuple[int, str]]:
@@ -184,18 +200,13 @@ def _parameters(link, welded: list) -> list[sp.Expr]:
     """π of a link: its own (m, h, I_O) plus each welded body's moved into its frame, in the user's
     symbols (placements of the fixed joints, no intermediates)."""
     m, h, I_O = about_origin(link)
-    for body in welded[1:]:
-        R, t = sp.eye(3), sp.zeros(3, 1)
-        part = body
-        while part is not link:  # x_link = R x_body + t through the fixed joints
-            P = part.placement
-            R_q, t_q = part.joint.motion()
-            R_p, t_p = matmul(P.rotation, R_q), P.translation + matmul(P.rotation, t_q)
-            R, t = matmul(R_p, R), matmul(R_p, t) + t_p
-            part = part.parent
+    for body in welded[1:]:  # x_link = R x_body + t through the fixed joints
+        R_q, t_q = body.joint.motion()
+        P = body.placement
+        _, R, t = up_to_link(body, matmul(P.rotation, R_q), P.translation + matmul(P.rotation, t_q))
         m_b, h_b, I_b = moved(about_origin(body), R, t)
         m, h, I_O = m + m_b, h + h_b, I_O + I_b
-    return [m, *h, *(I_O[j, k] for j, k in UNIT)]
+    return ten(m, h, I_O)
 
 
 def _quadratic(w: sp.Matrix, j: int, k: int) -> sp.Expr:

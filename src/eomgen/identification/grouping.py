@@ -34,20 +34,15 @@ import sympy as sp
 
 from ..methods.recursive import moved
 from ..model.joints import Fixed, Prismatic, Revolute
-from ..regressor import INERTIAL, UNIT, Regressor, links, speeds
+from ..regressor import INERTIAL, UNIT, Regressor, links, speeds, ten, up_to_link
+from .pseudo_inertia import inertia
 
 INERTIA = {jk: 4 + n for n, jk in enumerate(UNIT)}  # (j, k), j ≤ k → its entry in a link's ten
 
 
-def inertia_matrix(x: list) -> sp.Matrix:
-    """The symmetric 3×3 inertia of a link's ten parameters."""
-    return sp.Matrix(3, 3, lambda i, j: x[INERTIA[(min(i, j), max(i, j))]])
-
-
 def on_parent(part: list, R: sp.Matrix, p: sp.Matrix) -> list:
     """A part (m, h, I) at a link's origin, written on its parent (x_parent = R x + p)."""
-    m, h, I = moved((part[0], sp.Matrix(part[1:4]), inertia_matrix(part)), R, p)
-    return [m, *h, *(I[j, k] for j, k in UNIT)]
+    return ten(*moved((part[0], sp.Matrix(part[1:4]), sp.Matrix(inertia(part))), R, p))
 
 
 def coordinate_axis(joint) -> int | None:
@@ -101,11 +96,7 @@ class Grouping:
 
 def carrier(body):
     """(the link carrying `body`'s parent or None for the world, R, p of `body`'s joint frame on it)."""
-    R, p, parent = body.placement.rotation, body.placement.translation, body.parent
-    while parent is not None and not parent.speed_indices:
-        R, p = parent.placement.rotation * R, parent.placement.rotation * p + parent.placement.translation
-        parent = parent.parent
-    return parent, R, p
+    return up_to_link(body, body.placement.rotation, body.placement.translation)
 
 
 def spins_alone(body) -> bool:
