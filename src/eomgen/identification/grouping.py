@@ -158,16 +158,15 @@ def group(regressor: Regressor) -> Grouping:
         body = owner.get(i)
         if f"Ia_{name}" in column and body is not None:
             armature(beta, x, column, body, name, system.gravity)
-    K = sp.Matrix([[sp.expand(b).coeff(s) for s in x] for b in beta])
+    K = sp.Matrix([[b.coeff(s) for s in x] for b in map(sp.expand, beta)])
     rows = [r for r in range(P) if any(K[r, c] != 0 for c in range(P))]
-    values = dict(zip(x, regressor.pi))
     return Grouping([names[r] + ("R" if any(K[r, c] != 0 for c in range(P) if c != r) else "")
-                     for r in rows], rows, [in_symbols(beta[r], values) for r in rows],
+                     for r in rows], rows, [in_symbols(K.row(r), regressor.pi) for r in rows],
                     K.extract(rows, list(range(P))))
 
 
-def in_symbols(beta: sp.Expr, values: dict) -> sp.Expr:
-    """β in the model's symbols, expanded; a number as a float (a file's parameters are exact
+def in_symbols(k: sp.Matrix, pi: sp.Matrix) -> sp.Expr:
+    """β = k π in the model's symbols, expanded; a number as a float (a file's parameters are exact
     rationals of their decimals)."""
-    value = sp.expand(sp.expand(beta).xreplace(values))
+    value = sp.expand(sum((c * v for c, v in zip(k, pi) if c != 0), sp.S.Zero))
     return value if value.free_symbols or value == 0 else sp.Float(value, 15)
