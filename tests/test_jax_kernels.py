@@ -2,7 +2,8 @@
 kernels, one C call per vmapped batch, their derivatives from the traced graph. The same checks as
 test_traced_targets for the traced graph: every catalogue entry equals NumPy to 1e-12 (one state, jit,
 vmap), jacfwd of the forward dynamics equals forward_dynamics_derivatives to 1e-9; grad of M against a
-central difference of NumPy's M; on any other platform the traced graph (lowered for CUDA: no callback)."""
+central difference of NumPy's M; on any other platform the traced graph (lowered for CUDA: no callback),
+where JAX sees another platform than CPU (`only_cpu` false)."""
 from __future__ import annotations
 
 import os
@@ -16,6 +17,7 @@ import pytest
 
 import eomgen as eg
 from eomgen.functions import catalogue
+from eomgen.numeric import jax_kernels
 from test_catalogue import PARAMS, everything, members, public_call
 from test_traced_targets import close
 
@@ -87,7 +89,7 @@ def test_derivatives_are_the_traced_graphs(features):
     close(grad, central, 1e-6, "grad of M[0, 1]")
 
 
-def test_bound_params_float32_nan_and_other_platforms(features):
+def test_bound_params_float32_nan_and_other_platforms(features, monkeypatch):
     eom, f, fj = features
     Q, U, _ = eg.random_states(eom.system, 4, np.random.default_rng(1))
     bound = {k: v for k, v in PARAMS.items() if k != "i_m"}  # the motor current is state
@@ -103,8 +105,13 @@ def test_bound_params_float32_nan_and_other_platforms(features):
     p = np.asarray(fj.parameter_vector(PARAMS, "M"))
     batch = jax.vmap(fj.jax["M"], in_axes=(0, 0, 0, None))
     assert c_calls(batch, Q, U, U, p) == 1
+    monkeypatch.setattr(jax_kernels, "only_cpu", lambda: False)  # as where JAX sees a GPU too
+    jax.clear_caches()  # traced again: the choice between C and graph is made when tracing
+    close(jax.jit(batch)(Q, U, U, p), f.M(Q, PARAMS), 1e-12, "platform_dependent, on CPU")
+    assert c_calls(batch, Q, U, U, p) == 1
     lowered = jax.jit(batch).trace(Q, U, U, p).lower(lowering_platforms=("cuda",)).as_text()
     assert "custom_call" not in lowered and "callback" not in lowered
+    jax.clear_caches()
 
 
 def test_no_host_callback_one_c_call_per_jitted_call(features):

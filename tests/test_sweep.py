@@ -178,7 +178,8 @@ def test_random_states_fill_given_arrays_with_numpys_draws(name):
     ({"states": (np.zeros((4, 6)), np.zeros((3, 6)))}, "states: u must have shape (N, 6)"),
     ({"states": RandomChunks(None)}, "n:"), ({"n": 5}, "n: 5 given for states of 4 rows"),
     ({"functions": "M"}, "functions:"), ({"cluster": 3.5}, "cluster:"), ({"reduce": sum}, "reduce:"),
-    ({"reduce": np.sin}, "reduce:"), ({"reduce": np.less}, "reduce:")])
+    ({"reduce": np.sin}, "reduce:"), ({"reduce": np.less}, "reduce:"),
+    ({"reduce": np.subtract}, "reduce: expected an associative")])
 def test_bad_arguments_are_refused_by_name(ur5, change, named):
     system, f, _ = ur5
     arguments = {"functions": f, "key": "M", "states": np.zeros((4, 6)), "chunk": 2, **change}

@@ -3,49 +3,84 @@ of each joint (`Joint.group`; unit quaternions stay unit quaternions), and the d
 configurations, the u that integrate carries from one to the other."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .errors import ModelError
 from .model import Cylindrical, FlexibleLink, Planar, Prismatic, System, Translation
 
 
-def random_states(system: System, n: int, rng, out: tuple | None = None) -> tuple[np.ndarray, ...]:
+SCALES = {"angle": np.pi, "pitch": 0.45 * np.pi, "length": 0.5, "position": 1.0, "deflection": 0.05}
+
+
+@dataclass(frozen=True)
+class Layout:
+    """What `random_states` draws for a system: nq, nv, and q's columns as runs, each (start, stop, scales)
+    of uniform columns (scales: their half-widths, a column vector) or (start, start + 4, None), a
+    quaternion. Made once by `layout(system)`, so that many calls (a sweep's slices) pay it once."""
+
+    nq: int
+    nv: int
+    runs: tuple
+
+    def fill(self, n: int, rng, out: tuple | None = None) -> tuple[np.ndarray, ...]:
+        """See `random_states`: q's runs drawn one after the other, each uniform run column by column."""
+        q, *speeds = out if out is not None else (np.empty((n, self.nq)), np.empty((n, self.nv)),
+                                                   np.empty((n, self.nv)))
+        drawn = np.empty((self.nq, n))  # q transposed: each column's draws contiguous
+        for start, stop, scales in self.runs:
+            if scales is None:
+                quat = rng.standard_normal(out=drawn[start:stop].reshape(n, 4))
+                drawn[start:stop] = (quat / np.linalg.norm(quat, axis=1, keepdims=True)).T
+            else:  # uniform(−1, 1) = 2 r − 1 in numpy's own operations, then scaled
+                x = rng.random(out=drawn[start:stop])
+                x *= 2
+                x -= 1
+                x *= scales
+        q[...] = drawn.T
+        for v in speeds:  # uniform(−2, 2) = 4 r − 2
+            rng.random(out=v)
+            v *= 4
+            v -= 2
+        return (q, *speeds)
+
+
+def layout(system: System) -> Layout:
+    """The `Layout` of a system's coordinates (`_kinds` of each joint, a quaternion's 4 columns one run, runs
+    of uniform columns merged)."""
+    labels = [label for j in system.joints for kind in _kinds(j)
+              for label in [kind] * (4 if kind == "quaternion" else 1)]
+    runs, k = [], 0
+    while k < len(labels):
+        if labels[k] == "quaternion":
+            runs.append((k, k + 4, None))
+            k += 4
+            continue
+        stop = next((i for i in range(k, len(labels)) if labels[i] == "quaternion"), len(labels))
+        runs.append((k, stop, np.array([[SCALES[label]] for label in labels[k:stop]])))
+        k = stop
+    return Layout(len(labels), system.nv, tuple(runs))
+
+
+def random_states(system: System | Layout, n: int, rng, out: tuple | None = None) -> tuple[np.ndarray, ...]:
     """n states (q, u, u̇): angles in [−π, π] (ZYX pitch within ±0.45 π), lengths in [−0.5, 0.5] (a free
     flyer's and a planar joint's position in [−1, 1], a flexible link's nodes in [−0.05, 0.05]),
     uniformly random unit quaternions, u and u̇ in [−2, 2]. With `out`, arrays (q,), (q, u) or (q, u, u̇)
     (C-contiguous float64, n rows) are filled and returned instead: the same values as the first arrays of
-    a whole call with the same generator (the draws in the same order: q's column by column, then u, u̇)."""
+    a whole call with the same generator (the draws in the same order: q's column by column, then u, u̇).
+    `system` may be its `layout(system)`, made once for many calls."""
     if not isinstance(n, int) or isinstance(n, bool) or n < 0:
         raise ModelError(f"random_states: n must be a non-negative integer, got {n!r}")
     if out is not None and not (isinstance(out, tuple) and 1 <= len(out) <= 3):
         raise ModelError(f"random_states: out must be a tuple (q,), (q, u) or (q, u, ud), got {out!r}")
-    for name, x, width in zip(("q", "u", "ud"), out or (), (system.nq, system.nv, system.nv)):
+    plan = system if isinstance(system, Layout) else layout(system)
+    for name, x, width in zip(("q", "u", "ud"), out or (), (plan.nq, plan.nv, plan.nv)):
         if not isinstance(x, np.ndarray) or x.dtype != np.float64 or x.shape != (n, width) \
                 or not x.flags.c_contiguous or not x.flags.writeable:
             raise ModelError(f"random_states: out's {name} must be a writeable C-contiguous float64 array of "
                              f"shape ({n}, {width}), got {getattr(x, 'shape', type(x).__name__)}")
-    q, *speeds = out if out is not None else (np.empty((n, system.nq)), np.empty((n, system.nv)),
-                                               np.empty((n, system.nv)))
-    drawn, column = np.empty((system.nq, n)), 0  # q transposed: each column's draws contiguous
-    for j in system.joints:
-        for label in _kinds(j):
-            if label == "quaternion":
-                quat = rng.standard_normal(out=drawn[column:column + 4].reshape(n, 4))
-                drawn[column:column + 4] = (quat / np.linalg.norm(quat, axis=1, keepdims=True)).T
-                column += 4
-            else:  # uniform(−1, 1) = 2 r − 1 in numpy's own operations, then scaled
-                x = rng.random(out=drawn[column])
-                x *= 2
-                x -= 1
-                x *= {"angle": np.pi, "pitch": 0.45 * np.pi, "length": 0.5, "position": 1.0,
-                      "deflection": 0.05}[label]
-                column += 1
-    q[...] = drawn.T
-    for v in speeds:  # uniform(−2, 2) = 4 r − 2
-        rng.random(out=v)
-        v *= 4
-        v -= 2
-    return (q, *speeds)
+    return plan.fill(n, rng, out)
 
 
 def _kinds(joint) -> list[str]:

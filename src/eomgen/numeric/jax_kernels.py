@@ -3,7 +3,10 @@ function, called by XLA through its FFI (`printers.ffi`: a handler in the extens
 XLA's input buffers and writes into its output buffer; no host callback, no copy); its derivatives
 are those of the traced graph (`printers.traced`):
 
-    f(x) = C(x) on CPU, traced(x) on any other platform   (`jax.lax.platform_dependent`, at lowering)
+    f(x) = C(x) on CPU, traced(x) on any other platform   (`jax.lax.platform_dependent`, at lowering;
+           where JAX sees CPUs only, C(x) alone: the graph is then traced for derivatives only, which
+           halves a big robot's first jit — lowering such a function for a GPU elsewhere, by
+           `jax.export`, then fails naming the FFI target, never computes a wrong value)
     jvp:  (f(x), ∂f(x)·ẋ) = jax.jvp(traced, (x,), (ẋ,))    (so jit, vmap, jacfwd and grad go through)
 
 One state is one FFI call (11 µs for ur5's M under jit). Under `jax.vmap` the call receives the inputs
@@ -97,6 +100,13 @@ class Kernels:
             return self.compiled[key]
 
 
+def only_cpu() -> bool:
+    """Whether JAX's devices here are CPUs only (then a function is lowered for CPU alone)."""
+    import jax
+
+    return {d.platform for d in jax.devices()} == {"cpu"}
+
+
 def kernel_function(traced, key: str, shape: tuple[int, int], kernels: Kernels):
     """`traced` (q, u, ud, p) → array of `shape`, with its values from the C function `key` on CPU (module
     doc), jitted (its first call compiles the branch of the platform only)."""
@@ -115,6 +125,8 @@ def kernel_function(traced, key: str, shape: tuple[int, int], kernels: Kernels):
 
     @jax.custom_jvp
     def f(q, u, ud, p):
+        if only_cpu():  # no other platform to lower for: the graph is traced for derivatives only
+            return on_cpu(q, u, ud, p)
         return jax.lax.platform_dependent(q, u, ud, p, cpu=on_cpu, default=traced)
 
     # the tangent needs the traced graph's intermediates: its primal comes with them at no extra cost
