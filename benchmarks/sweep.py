@@ -17,7 +17,7 @@ statistical profiler is switched off). Prints a table and writes JSON.
 Beside them, the same making and call on every worker at once, outside Dask's tasks (`client.run`): the
 cores as busy as in the sweep, the per-core cost without Dask.
 
-Run: python benchmarks/sweep.py [--states 100000000] [--chunk 250000] [--workers 2] [--out ...]"""
+Run: python benchmarks/sweep.py [--states 100000000] [--chunk 1000000] [--workers 2] [--out ...]"""
 from __future__ import annotations
 
 import argparse
@@ -57,7 +57,7 @@ def at_once(built, make, chunk: int, repeat: int = 3) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--states", type=int, default=10**8)
-    parser.add_argument("--chunk", type=int, default=250_000)
+    parser.add_argument("--chunk", type=int, default=1_000_000)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--spots", type=int, default=8)
     parser.add_argument("--out", default=results_io.default_path("sweep"))

@@ -6,6 +6,7 @@ import sympy as sp
 
 from ..errors import ModelError
 from ..symbols import Generated
+from .beam import integrals, quadratic
 from .joints import Joint, complement, rotation_about, scalar, wrench_basis, zero
 
 
@@ -14,12 +15,23 @@ class FlexibleLink(Joint):
     along the body's x axis, mass per length m and bending stiffness E I, deflecting along y, split
     into n elements with Hermite cubic shape functions. Coordinates: the joint angle θ, then the
     deflection and slope of nodes 2 … n+1 (node 1 is clamped to the joint). Children attach to the
-    tip frame: translated by (L, w_tip) and turned by the tip slope. Lagrange II only."""
+    tip frame: translated by (L + u_x(L), w_tip) and turned by the tip slope. Lagrange II only.
+
+    stiffening (the default): a point at x also moves along the link by the foreshortening of the bent
+    beam, u_x(x) = −½ ∫₀ˣ y'² ds (second order in the deflection), so that axial loads — centrifugal,
+    gravity along the link, a tip mass's — stiffen or soften bending (`methods.flexible`).
+    stiffening=False: the paper's model, transverse deflection only (u_x = 0); it loses the centrifugal
+    stiffening of a spinning link (its in-plane frequency falls as ω² = ω₀² − Ω² and the link buckles
+    at Ω = ω₀), so it is right only for slow rotation."""
 
     def __init__(
-        self, name, length, mass_per_length, EI, elements: int = 1, *, actuated: bool = True
+        self, name, length, mass_per_length, EI, elements: int = 1, *, actuated: bool = True,
+        stiffening: bool = True,
     ) -> None:
         super().__init__(name, axis=(0, 0, 1), actuated=actuated)
+        if not isinstance(stiffening, bool):
+            raise ModelError(f"joint '{self.name}': stiffening must be True or False, got {stiffening!r}")
+        self.stiffening = stiffening
         if not isinstance(elements, int) or isinstance(elements, bool) or elements < 1:
             raise ModelError(f"joint '{self.name}': elements must be a positive integer, got {elements!r}")
         values = {"length": length, "mass_per_length": mass_per_length, "EI": EI}
@@ -50,10 +62,22 @@ class FlexibleLink(Joint):
     def motion(self):
         return rotation_about(self.axis, self.q), sp.zeros(3, 1)
 
+    def nodes(self) -> list[sp.Expr]:
+        """The nodal deflections and slopes from the joint to the tip, node 1's (clamped) zero."""
+        return [sp.Integer(0), sp.Integer(0), *self.nodal]
+
+    def foreshortening(self) -> sp.Expr:
+        """u_x(L) = −½ ∫₀ᴸ y'² dx, the tip's axial displacement (0 without stiffening)."""
+        if not self.stiffening:
+            return sp.Integer(0)
+        h, d = self.length / self.elements, self.nodes()
+        return -sp.Add(*[quadratic(integrals(e * h, h)["G"], d[2 * e:2 * e + 4], d[2 * e:2 * e + 4])
+                         for e in range(self.elements)]) / 2
+
     def tip(self) -> tuple[sp.Matrix, sp.Matrix]:
-        """(R, t) of the tip frame in the link frame: turned by the tip slope, at (L, w_tip)."""
+        """(R, t) of the tip frame in the link frame: turned by the tip slope, at (L + u_x(L), w_tip)."""
         w, s = self.nodal[-2:]
-        return rotation_about(self.axis, s), sp.Matrix([self.length, w, 0])
+        return rotation_about(self.axis, s), sp.Matrix([self.length + self.foreshortening(), w, 0])
 
     @property
     def efforts(self) -> int:
