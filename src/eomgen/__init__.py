@@ -20,6 +20,7 @@ from .regressor import Regressor, regressor
 from .simplification import simplified
 from .worked import Solution, Step, solution
 from .state import difference, integrate, random_states
+from .symbols import t
 from .simulate import simulate
 from .sweep import sweep
 from . import identification
@@ -40,4 +41,4 @@ __all__ = ["EquationsOfMotion", "KaneEquations", "Cylindrical", "DHLink", "Fixed
            "regressor", "base_parameters", "identify", "identify_consistent", "excite", "identification",
            "robots",
            "difference", "simplified", "simulate", "sweep", "plot", "animate", "solution",
-           "tradeoff", "verify", "view", "View", "write_c", "write_module"]
+           "t", "tradeoff", "verify", "view", "View", "write_c", "write_module"]

@@ -37,23 +37,24 @@ def inverse_dynamics(eom: EquationsOfMotion) -> sp.Matrix:
 
 def available(eom: EquationsOfMotion) -> bool:
     """Whether the inverse dynamics can be formed: by the recursion, or from M, b and g."""
-    return not _flexible(eom) or all(k in eom.compact for k in ("M", "b", "g"))
+    return not _from_forms(eom) or all(k in eom.compact for k in ("M", "b", "g"))
 
 
 def unavailable(eom: EquationsOfMotion) -> str:
-    """Why the inverse dynamics cannot be formed (flexible links without M, b, g)."""
+    """Why the inverse dynamics cannot be formed (flexible links or prescribed motion without M, b, g)."""
     missing = [k for k in ("M", "b", "g") if k not in eom.compact]
-    return (f"inverse dynamics of a system with flexible links is M u̇ + b + g: derive {missing} too "
-            "(quantities=None)")
+    return (f"inverse dynamics of a system with flexible links or prescribed motion is M u̇ + b + g: derive "
+            f"{missing} too (quantities=None)")
 
 
-def _flexible(eom: EquationsOfMotion) -> bool:
-    return any(isinstance(j, FlexibleLink) for j in eom.system.joints)
+def _from_forms(eom: EquationsOfMotion) -> bool:
+    """Whether the inverse dynamics is M u̇ + b + g (flexible links, prescribed motions: no recursion)."""
+    return bool(eom.system.prescribed) or any(isinstance(j, FlexibleLink) for j in eom.system.joints)
 
 
 def _inverse_dynamics(eom: EquationsOfMotion) -> sp.Matrix:
     system = eom.system
-    if not _flexible(eom):
+    if not _from_forms(eom):
         return recursive.inverse_dynamics(eom.kinematics)
     if not available(eom):
         raise ModelError(unavailable(eom))
@@ -67,7 +68,7 @@ def dynamics_residual(eom: EquationsOfMotion) -> sp.Matrix:
     if "ID:loads" not in eom.compact:
         eom.compact["ID:loads"] = (
             inverse_dynamics(eom) - eom.tau_compact
-            if _flexible(eom)
+            if _from_forms(eom)
             else recursive.inverse_dynamics(eom.kinematics, loads=True)
         )
     return eom.compact["ID:loads"]

@@ -17,6 +17,7 @@ from .model import FlexibleLink, Placement
 from .model.loads import Point
 from .model.system import Body, Frame, System
 from .subexpressions import Subexpressions
+from .symbols import t
 
 TIME = "t"
 
@@ -31,6 +32,8 @@ class Kinematics:
         self.n = len(self.u)
         self.sub = Subexpressions()
         self.time_seeds = dict(zip(self.q, system.qdot))  # q̇(q, u): u but for a free-flyer base
+        if system.prescribed:
+            self.time_seeds[t] = sp.Integer(1)  # ∂/∂t of the prescribed motions: d/dt = Σ q̇ ∂/∂q + ∂/∂t
         self.R: dict[Body, sp.Matrix] = {}
         self.p: dict[Body, sp.Matrix] = {}
         # per body, its joint's motion subspace in world axes: (u index, v of the body origin, ω)

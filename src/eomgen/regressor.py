@@ -119,6 +119,10 @@ def missing_reason(system: System) -> str | None:
     flexible = [j.name for j in system.joints if isinstance(j, FlexibleLink)]
     if flexible:
         return f"regressor: flexible link {flexible[0]!r} is not a rigid body with 10 parameters"
+    moving = [j.name for j in system.prescribed]
+    if moving:
+        return (f"regressor: joint {moving[0]!r} has a prescribed motion, which the regressor's recursion "
+                "leaves out")
     return None
 
 

@@ -223,4 +223,8 @@ def _report(f, t, y, params, source) -> Simulation:
         closure = np.linalg.norm(f.closure_residual(q, params), axis=-1) if f.closure_rows else None
         velocity = np.linalg.norm(np.einsum("nij,nj->ni", f.contact_jacobian(q, params), u), axis=-1)
     currents = x[:, n:] if x.shape[1] > n else None
-    return Simulation(t, q, u, currents, tau, f.energy(x, params), y[:, -1], closure, velocity, f, params)
+    if f.system.prescribed:  # T and U at each state's time (the drive's work is not in y[:, -1])
+        energy = np.array([f.energy(xk, {**(params or {}), "t": tk}) for tk, xk in zip(t, x)])
+    else:
+        energy = f.energy(x, params)
+    return Simulation(t, q, u, currents, tau, energy, y[:, -1], closure, velocity, f, params)

@@ -97,7 +97,7 @@ def _kinds(joint) -> list[str]:
     if isinstance(joint, Cylindrical):
         return ["length", "angle"]
     if isinstance(joint, FlexibleLink):
-        return ["angle"] + ["deflection"] * (len(joint.coordinates) - 1)
+        return ["angle"] * (joint.q is not None) + ["deflection"] * len(joint.nodal)
     return ["angle"] * len(joint.coordinates)  # revolute, helical, universal
 
 

@@ -34,3 +34,6 @@ class Generated(sp.Symbol):
 def user_symbols(expr) -> set[sp.Symbol]:
     """The symbols of an expression (or a matrix) that a user or a file wrote, not eomgen's own."""
     return {s for s in sp.sympify(expr).free_symbols if not isinstance(s, Generated)}
+
+
+t = sp.Symbol("t")  # time: a prescribed joint's motion is an expression in it (`Revolute(..., motion=...)`)

@@ -42,13 +42,17 @@ def centroidal(eom: EquationsOfMotion, missing: dict) -> list[Function]:
     except ModelError as error:
         missing.update(dict.fromkeys(("com", "J_com", "A_G"), str(error)))
         return []
+    moving = [j.name for j in eom.system.prescribed]
+    if moving:
+        missing["A_G"] = (f"A_G: the momentum of joint '{moving[0]}''s prescribed motion is no column of A_G "
+                          "(A_G u misses it)")
     return [Function("com", "com", "centre of mass c (world)", "q", (3, 1), lambda: momentum.com(kin),
                      "vector"),
             Function("J_com", "com_jacobian", "J_com (3 x NV), the Jacobian of the centre of mass", "q",
                      (3, nv), lambda: momentum.com_jacobian(kin)),
             Function("A_G", "centroidal_momentum_matrix", "A_G (6 x NV): [linear momentum; angular momentum "
                      "about c] per unit speed, world axes", "q", (6, nv),
-                     lambda: momentum.centroidal_momentum_matrix(kin))]
+                     lambda: momentum.centroidal_momentum_matrix(kin))][:2 if moving else 3]
 
 
 def constraints(eom: EquationsOfMotion, missing: dict) -> list[Function]:
@@ -167,6 +171,10 @@ def families(eom: EquationsOfMotion, missing: dict) -> list[Family]:
         if name not in loads:
             raise unknown("load", name, list(loads))
 
+    moving = [j.name for j in system.prescribed]
+    if moving:
+        missing["Jdot_u"] = (f"Jdot_u: J̇ u, the bias of a frame's velocity J u, misses joint "
+                             f"'{moving[0]}''s prescribed motion (its rate is no column of J)")
     found = [Family("J", "frame", "jacobian", "6 x NV Jacobian [J_P; J_R] of frame {item}, world-aligned "
                     "axes", "q", (6, nv), kin.jacobian, frames),
              Family("Jdot_u", "frame", "jacobian_dot_u", "J̇ u of frame {item} ([linear; angular])", "q, u",
@@ -175,6 +183,7 @@ def families(eom: EquationsOfMotion, missing: dict) -> list[Family]:
                     (3, 4), lambda frame: placement(kin, frame), frames, "pose"),
              Family("tau", "load", "tau_of", "generalized force τ(q, u) of load {item}", "q, u", (nv, 1),
                     lambda name: eom.compact[f"tau:{name}"], loads, "vector", load)]
+    found = [family for family in found if family.prefix not in missing]
     try:
         wrenches, reactions = eom.free_cut_result("joint_wrenches"), eom.free_cut_result("reactions")
     except ModelError as error:

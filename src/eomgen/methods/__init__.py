@@ -23,7 +23,8 @@ def derive(system: System, method: str | None = None, quantities=None,
     """Equations of motion M u̇ + b + g = τ + Sᵀ τ_a of `system` by `method`: "recursive" (the
     body-frame composite-rigid-body and recursive Newton-Euler algorithms, which give the cheapest
     code), or the lecture's "projected_newton_euler", "lagrange", "free_cut". The default (None) is the
-    method with the cheapest code that applies: "recursive", or "lagrange" with flexible links.
+    method with the cheapest code that applies: "recursive", or "lagrange" with flexible links or a
+    joint of prescribed motion (`Revolute(..., motion=θ(eg.t))`: the time t is then a parameter "t").
 
     Model only what a scene requires: `quantities`, a subset of ("M", "b", "g") (default all), derives
     only those, e.g. ("g",) for gravity compensation (() for none); `frames`, frame or body names whose
@@ -31,16 +32,24 @@ def derive(system: System, method: str | None = None, quantities=None,
     frames of a scene. The other frames' Jacobians are still derived when first asked for."""
     if not isinstance(system, System):
         raise TypeError(f"derive expects an eomgen.System, got {type(system).__name__}")
+    flexible = any(isinstance(j, FlexibleLink) for j in system.joints)
+    moving = [j.name for j in system.prescribed]
     if method is None:
-        method = "lagrange" if any(isinstance(j, FlexibleLink) for j in system.joints) else "recursive"
+        method = "lagrange" if flexible or moving else "recursive"
     if method not in METHODS:
         raise ModelError(f"unknown method {method!r}; choose one of {sorted(METHODS)}")
     if not system.bodies:
         raise ModelError("the system has no bodies")
     if system.nq == 0:
         raise ModelError("the system has no moving joint (every body is fixed)")
-    if method != "lagrange" and any(isinstance(j, FlexibleLink) for j in system.joints):
+    if method != "lagrange" and flexible:
         raise ModelError(f"method {method!r} does not handle flexible links; use 'lagrange'")
+    if method != "lagrange" and moving:
+        raise ModelError(f"method {method!r} does not handle the prescribed motion of joint '{moving[0]}' "
+                         "(its rate is no column of the Jacobians): use 'lagrange', which differentiates in time")
+    if moving and system.constraint_rows():
+        raise ModelError(f"joint '{moving[0]}': prescribed motion in a system with contacts, loops or "
+                         "rolling disks is not supported (their rows J_c u = 0 would miss the motion's own rate)")
     total = sum((b.mass for b in system.bodies), 0) + flexible_mass(system)
     if total == 0:
         raise ModelError("the total mass of the system is zero: M would be singular")
@@ -55,5 +64,6 @@ def derive(system: System, method: str | None = None, quantities=None,
     eom = METHODS[method](kin, tuple(k for k in QUANTITIES if k in quantities))
     for frame in frames:
         eom.compact[f"J:{frame}"] = kin.jacobian(frame)
-        eom.compact[f"Jdot_u:{frame}"] = kin.jacobian_dot_u(frame)
+        if not moving:  # J̇ u is the bias of J u, which a prescribed motion's own rate is not part of
+            eom.compact[f"Jdot_u:{frame}"] = kin.jacobian_dot_u(frame)
     return eom

@@ -333,6 +333,9 @@ def kane(system: System, speeds=None, kinematic_equations=None, nonholonomic=Non
         raise ModelError(f"kane: expected an eomgen.System, got {type(system).__name__}")
     if any(isinstance(j, FlexibleLink) for j in system.joints):
         raise ModelError("kane: flexible links are not supported")
+    if system.prescribed:
+        raise ModelError(f"kane: the prescribed motion of joint '{system.prescribed[0].name}' is not "
+                         "supported (its rate is no column of the partial velocities): use eg.derive, by Lagrange")
     if system.contacts or system.loops:
         raise ModelError(f"kane: contacts {[c.name for c in system.contacts]} and loops "
                          f"{[c.name for c in system.loops]} are not taken: write loop closures as holonomic "

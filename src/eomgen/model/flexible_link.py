@@ -7,7 +7,7 @@ import sympy as sp
 from ..errors import ModelError
 from ..symbols import Generated
 from .beam import integrals, quadratic
-from .joints import Joint, complement, rotation_about, scalar, wrench_basis, zero
+from .joints import Joint, prescribed, complement, rotation_about, scalar, wrench_basis, zero
 
 
 class FlexibleLink(Joint):
@@ -15,7 +15,8 @@ class FlexibleLink(Joint):
     along the body's x axis, mass per length m and bending stiffness E I, deflecting along y, split
     into n elements with Hermite cubic shape functions. Coordinates: the joint angle θ, then the
     deflection and slope of nodes 2 … n+1 (node 1 is clamped to the joint). Children attach to the
-    tip frame: translated by (L + u_x(L), w_tip) and turned by the tip slope. Lagrange II only.
+    tip frame: translated by (L + u_x(L), w_tip) and turned by the tip slope. Lagrange II only. With
+    `motion` (an expression of eg.t) the angle is prescribed, as for `Revolute(..., motion=...)`.
 
     stiffening (the default): a point at x also moves along the link by the foreshortening of the bent
     beam, u_x(x) = −½ ∫₀ˣ y'² ds (second order in the deflection), so that axial loads — centrifugal,
@@ -26,9 +27,11 @@ class FlexibleLink(Joint):
 
     def __init__(
         self, name, length, mass_per_length, EI, elements: int = 1, *, actuated: bool = True,
-        stiffening: bool = True,
+        stiffening: bool = True, motion=None,
     ) -> None:
         super().__init__(name, axis=(0, 0, 1), actuated=actuated)
+        if motion is not None:  # the angle a given function of time: no coordinate, no actuator
+            self.prescribed, self.q = prescribed(motion, self.name), None
         if not isinstance(stiffening, bool):
             raise ModelError(f"joint '{self.name}': stiffening must be True or False, got {stiffening!r}")
         self.stiffening = stiffening
@@ -57,10 +60,11 @@ class FlexibleLink(Joint):
 
     @property
     def coordinates(self):
-        return [self.q, *self.nodal]
+        return [*super().coordinates, *self.nodal]
 
     def motion(self):
-        return rotation_about(self.axis, self.q), sp.zeros(3, 1)
+        angle = self.q if self.prescribed is None else self.prescribed
+        return rotation_about(self.axis, angle), sp.zeros(3, 1)
 
     def nodes(self) -> list[sp.Expr]:
         """The nodal deflections and slopes from the joint to the tip, node 1's (clamped) zero."""
@@ -81,12 +85,13 @@ class FlexibleLink(Joint):
 
     @property
     def efforts(self) -> int:
-        """Only the joint angle is driven; the beam's nodes move by its elasticity."""
-        return 1
+        """Only the joint angle is driven (unless prescribed); the beam's nodes move by its elasticity."""
+        return int(self.prescribed is None)
 
     def subspace(self):
-        """The joint angle turns the link frame; the nodal coordinates deform the beam only."""
-        return [(zero(), self.axis)] + [(zero(), zero()) for _ in self.nodal]
+        """The joint angle turns the link frame (unless prescribed); the nodal coordinates deform the beam
+        only."""
+        return [(zero(), self.axis)] * self.efforts + [(zero(), zero()) for _ in self.nodal]
 
     def joint_frame_subspace(self):
         return self.subspace()

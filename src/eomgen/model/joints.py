@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..errors import ModelError
-from ..symbols import Generated
+from ..symbols import Generated, t as time
 from .values import is_numeric, matrix3, nonnegative, scalar, vector3
 
 Column = tuple[sp.Matrix, sp.Matrix]  # (v, ω) of one speed
@@ -102,6 +102,7 @@ class Joint:
     group = "vector"  # configuration space for integration: "vector", "SO3", "SE2" or "SE3"
     pitch_index: int | None = None  # ZYX angles: position of the pitch in the joint's q (singular at ±90°)
     mimic: "Mimic | None" = None  # a joint that follows another's coordinate (`OneAxis`)
+    prescribed: sp.Expr | None = None  # a joint driven as a given function of time (`OneAxis`)
 
     def __init__(self, name, axis=(0, 0, 1), *, actuated: bool = True, armature=0) -> None:
         self.name, self.q = joint_name(name)
@@ -168,7 +169,8 @@ class Joint:
     def constants(self) -> dict[str, sp.Expr]:
         """The joint's constant fields by name (numbers or parameters)."""
         axis = {} if self.axis is None else {f"axis[{k}]": x for k, x in enumerate(self.axis)}
-        return {**axis, "armature": self.armature}
+        motion = {} if self.prescribed is None else {"motion": self.prescribed}
+        return {**axis, "armature": self.armature, **motion}
 
     @property
     def coordinates(self) -> list[sp.Symbol]:
@@ -283,12 +285,18 @@ class Mimic:
 
 
 class OneAxis(Joint):
-    """A one-coordinate joint along or about `axis` (joint axes), optionally a mimic of another."""
+    """A one-coordinate joint along or about `axis` (joint axes), optionally a mimic of another, or
+    driven by a prescribed `motion`: its variable a given expression of the time `eg.t` (and of
+    parameters), so it has no coordinate, no speed and no actuator of its own (`prescribed`)."""
 
-    def __init__(self, name, axis=(0, 0, 1), *, actuated: bool = True, armature=0, mimic=None) -> None:
+    def __init__(self, name, axis=(0, 0, 1), *, actuated: bool = True, armature=0, mimic=None,
+                 motion=None) -> None:
         super().__init__(name, axis, actuated=actuated, armature=armature)
         self.mimic = None if mimic is None else Mimic(self, mimic)
-        if self.mimic is not None:
+        self.prescribed = None if motion is None else prescribed(motion, self.name)
+        if self.mimic is not None and self.prescribed is not None:
+            raise ModelError(f"joint '{self.name}': give mimic or motion, not both")
+        if self.mimic is not None or self.prescribed is not None:
             self.q = None  # no coordinate of its own
 
     def bind(self, driver: Joint) -> None:
@@ -297,7 +305,9 @@ class OneAxis(Joint):
 
     @property
     def value(self) -> sp.Expr:
-        """The joint variable: q, or k q_driver + o for a mimic."""
+        """The joint variable: q, k q_driver + o for a mimic, or its prescribed motion θ(t)."""
+        if self.prescribed is not None:
+            return self.prescribed
         if self.mimic is None:
             return self.q
         if self.mimic.driver is None:
@@ -332,7 +342,19 @@ class OneAxis(Joint):
             if self.mimic is None
             else f", mimic=({self.mimic.driver_name!r}, {self.mimic.multiplier}, {self.mimic.offset})"
         )
-        return f"{type(self).__name__}({self.name!r}, axis={tuple(self.axis)}{mimic})"
+        motion = "" if self.prescribed is None else f", motion={self.prescribed}"
+        return f"{type(self).__name__}({self.name!r}, axis={tuple(self.axis)}{mimic}{motion})"
+
+
+def prescribed(motion, joint: str) -> sp.Expr:
+    """A joint's prescribed motion: a real expression in the time `eg.t` and parameters (a number: a
+    joint held still), twice differentiable in t (its rate and acceleration enter the equations)."""
+    expr = scalar(motion, f"joint '{joint}': motion")
+    others = [s for s in expr.free_symbols if s.name == time.name and s != time]
+    if others:
+        raise ModelError(f"joint '{joint}': motion uses {sp.srepr(others[0])}, not the time eg.t "
+                         f"({sp.srepr(time)}); write the motion in eg.t")
+    return expr
 
 
 class Revolute(OneAxis):

@@ -80,6 +80,11 @@ class System:
         return [b.joint for b in self.bodies if b.index is not None]
 
     @property
+    def prescribed(self) -> list[Joint]:
+        """The joints driven by a prescribed motion of time (`motion=`), without coordinates of their own."""
+        return [b.joint for b in self.bodies if b.joint.prescribed is not None]
+
+    @property
     def q(self) -> sp.Matrix:
         """The coordinates q, a column of symbols (a free-flyer base has 7, or 6 in Euler angles)."""
         return sp.Matrix([x for j in self.joints for x in j.coordinates])

@@ -7,6 +7,7 @@ import numpy as np
 
 from ..eom import EquationsOfMotion
 from ..errors import ByName
+from ..symbols import t as time
 from ..functions import catalogue
 from ..functions.expressions import line_loads
 from . import constrained, forward, state_equations
@@ -28,7 +29,8 @@ class NumericEoM(Evaluations):
         self.system = eom.system  # the model the functions were generated from
         self.nv = len(eom.u)
         self.S = np.array(eom.S.tolist(), dtype=float).reshape(-1, self.nv)
-        parameters = Parameters(eom.system.parameters, state=[m.current for m in eom.system.motors])
+        parameters = Parameters(eom.system.parameters, state=[m.current for m in eom.system.motors]
+                                + ([time] if eom.system.prescribed else []))
         super().__init__(catalogue(eom), parameters, line_loads(eom.system))
 
     @property

@@ -10,7 +10,8 @@ asks only for the parameters it uses; an unknown name, a missing value, a value 
 real number (strings and bools included) or one that contradicts the symbol's assumptions (positive,
 negative, nonnegative, nonpositive, nonzero, integer) is an error naming the parameters. `bind`
 fixes the values once: the bound functions then take no params, but for the state parameters (the
-motor currents, which `rhs` takes from its state x).
+motor currents, which `rhs` takes from its state x, and the time "t" of a prescribed motion, which
+`rhs` takes from its t).
 
 The vector and the actuator term are computed by one text (`printers.runtime.PARAMETERS`), run by
 eomgen and written verbatim into generated modules, which need only numpy."""
@@ -56,19 +57,22 @@ class Parameters:
         return sorted(self.names[k] for k in found if k is not None and (k in self.state) == state)
 
     def with_state(self, values: Mapping | None, state: Mapping[sp.Symbol, float]) -> dict:
-        """`values` and the values of the state parameters (motor currents, from x), which `values`
-        may not give."""
+        """`values` and the values of the state parameters `state` gives (motor currents from x, the time t
+        of a prescribed motion from the integrator), which `values` may not give."""
         if values is not None and not isinstance(values, Mapping):
             self.vector(values, ())  # refused as in every call
-        if named := self._named(values, state=True):
-            raise ModelError(f"params: {named} are motor currents, taken from the state x: leave them out")
+        given = {str(s) for s in state}
+        if named := [n for n in self._named(values, state=True) if n in given]:
+            what = ("the time of a prescribed motion, taken from the integrator's t" if named == ["t"]
+                    else "motor currents, taken from the state x")
+            raise ModelError(f"params: {named} are {what}: leave them out")
         return {**(values or {}), **{s: v for s, v in state.items() if s in self.index}}
 
     def bind(self, values: Mapping) -> BoundParameters:
         """The same parameters with every value but the state ones fixed."""
         if isinstance(values, Mapping) and (named := self._named(values, state=True)):
-            raise ModelError(f"bind: {named} are motor currents, part of the state: give them per call "
-                             "(rhs takes them from x), not to bind")
+            raise ModelError(f"bind: {named} are motor currents or the time, part of the state: give them "
+                             "per call (rhs takes them from x and t), not to bind")
         return BoundParameters(self, self.vector(values, set(range(len(self.names))) - self.state))
 
 

@@ -17,6 +17,7 @@ from collections.abc import Mapping
 
 import numpy as np
 from ..errors import ModelError
+from ..symbols import t as time
 from .parameters import actuated
 
 
@@ -52,14 +53,18 @@ def size(f) -> int:
     return f.nq + f.nv + len(f.system.motors)
 
 
-def state(f, x, params=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, Mapping | None]:
-    """(q, u, i, params) of x = [q, u, i] (i empty without motors), the currents added to params; N states
-    along axis 0 for a system without contacts, loops, rolling disks and motors."""
+def state(f, x, params=None, t=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, Mapping | None]:
+    """(q, u, i, params) of x = [q, u, i] (i empty without motors), the currents (and, given `t`, the time
+    of a prescribed motion) added to params; N states along axis 0 for a system without contacts, loops,
+    rolling disks and motors."""
     system = f.system
     batch = not (system.motors or system.constraint_rows())
     q, u, i = split(x, [f.nq, f.nv, len(system.motors)], "q, u, i" if system.motors else "q, u", batch)
-    if system.motors:
-        params = f.parameters.with_state(params, {m.current: c for m, c in zip(system.motors, i)})
+    given = {m.current: c for m, c in zip(system.motors, i)}
+    if system.prescribed and t is not None:
+        given[time] = t
+    if given:
+        params = f.parameters.with_state(params, given)
     return q, u, i, params
 
 
@@ -68,7 +73,7 @@ def rhs(f, t, x, tau=None, params=None, baumgarte: tuple[float, float] | None = 
     (with its `baumgarte` gains) for a system with contacts, loops or rolling disks; τ_a = `tau` (None,
     values, or a function (t, q, u)). The motor currents are taken from x (params, or a bind, leaves them
     out); voltages may depend on q and u."""
-    q, u, i, params = state(f, x, params)
+    q, u, i, params = state(f, x, params, t)
     tau_a = efforts(tau, t, q, u)
     if f.system.constraint_rows():
         ud = f.constrained_dynamics(q, u, tau_a, params, baumgarte)[0]
@@ -86,7 +91,7 @@ def rhs(f, t, x, tau=None, params=None, baumgarte: tuple[float, float] | None = 
 def power(f, t, x, tau=None, params=None) -> np.ndarray:
     """Ẇ = uᵀ (Sᵀ τ_a + τ_nc) (+ Σ i (U − R i − k N q̇) with motors): the power of the actuators, of the
     loads but springs and bending (and of the motors' sources less their resistance)."""
-    q, u, i, params = state(f, x, params)
+    q, u, i, params = state(f, x, params, t)
     P = work_rate(u, actuated(f.call("tau_nc", q, u, params=params)[..., 0], efforts(tau, t, q, u), f.S))
     if i.size:
         circuit = f.call("motor", q, u, params=params)
