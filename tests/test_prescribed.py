@@ -1,7 +1,8 @@
 """Joints of prescribed motion (`Revolute(..., motion=θ(eg.t))`): the coordinate leaves q and u, t enters
 the functions as the state parameter "t". Checked against the same system with that joint free, derived
 by the recursive method (an independent path, verified against Pinocchio elsewhere): the reduced
-equations are its rows r with q_k = θ(t), u_k = θ̇(t), u̇_k = θ̈(t) (M_rr, b_r + M_rk θ̈, g_r); a pendulum on
+equations are its rows r with q_k = θ(t), u_k = θ̇(t), u̇_k = θ̈(t) (M_rr, b_r + M_rk θ̈, g_r), and the
+driving effort its row k of the inverse dynamics (every backend and the written module); a pendulum on
 a spinning arm against its closed form; refusals by name."""
 from __future__ import annotations
 
@@ -54,8 +55,29 @@ def test_the_reduced_rows_of_the_free_system(functions, k, seed):
     np.testing.assert_allclose(reduced.b(q, u, p), full.b(Q, U)[r] + M[r, k] * theta[2], rtol=1e-11,
                                atol=1e-11)
     np.testing.assert_allclose(reduced.g(q, p), full.g(Q)[r], rtol=1e-12, atol=1e-12)
-    np.testing.assert_allclose(reduced.inverse_dynamics(q, u, ud, p), full.inverse_dynamics(Q, U, UD)[r],
-                               rtol=1e-11, atol=1e-11)
+    tau = full.inverse_dynamics(Q, U, UD)
+    np.testing.assert_allclose(reduced.inverse_dynamics(q, u, ud, p), tau[r], rtol=1e-11, atol=1e-11)
+    assert reduced.driving_effort(f"q{k}", q, u, ud, p) == pytest.approx(tau[k], rel=1e-11, abs=1e-11)
+
+
+def test_the_driving_effort_in_every_output(tmp_path):
+    """NumPy, C and the written module give the same effort, the free system's row k of τ_ID."""
+    import importlib.util
+
+    eom, full = eg.derive(chain(2)), eg.codegen(eg.derive(chain(None)))
+    path = eg.write_module(eom, tmp_path / "driven.py")
+    spec = importlib.util.spec_from_file_location("driven", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    q, u, ud, time = np.array([0.3, -0.2]), np.array([0.5, 0.1]), np.array([-0.4, 0.7]), 0.9
+    theta = [float(sp.diff(MOTIONS[2], t, n).subs(t, time)) for n in range(3)]
+    expected = full.inverse_dynamics(*(np.r_[x, v] for x, v in zip((q, u, ud), theta)))[2]
+    assert module.DRIVES == ("q2",)
+    for value in (eg.codegen(eom, backend="c").driving_effort("q2", q, u, ud, {"t": time}),
+                  np.squeeze(module.driving_effort("q2", q, u, ud, {"t": time}))):
+        assert value == pytest.approx(expected, rel=1e-12)
+    with pytest.raises(eg.ModelError, match="q0"):
+        eg.codegen(eom).driving_effort("q0", q, u, ud, {"t": time})
 
 
 def test_a_pendulum_on_a_spinning_arm():

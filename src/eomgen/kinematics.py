@@ -32,8 +32,11 @@ class Kinematics:
         self.n = len(self.u)
         self.sub = Subexpressions()
         self.time_seeds = dict(zip(self.q, system.qdot))  # q̇(q, u): u but for a free-flyer base
-        if system.prescribed:
-            self.time_seeds[t] = sp.Integer(1)  # ∂/∂t of the prescribed motions: d/dt = Σ q̇ ∂/∂q + ∂/∂t
+        for joint in system.prescribed:  # θ, θ̇, θ̈ of t, named: d/dt θ = θ̇, d/dt θ̇ = θ̈
+            theta, rate, acceleration = joint.driven
+            for symbol, n in zip(joint.driven, range(3)):
+                self.sub.define(symbol, sp.diff(joint.prescribed, t, n))
+            self.time_seeds.update({theta: rate, rate: acceleration})
         self.R: dict[Body, sp.Matrix] = {}
         self.p: dict[Body, sp.Matrix] = {}
         # per body, its joint's motion subspace in world axes: (u index, v of the body origin, ω)

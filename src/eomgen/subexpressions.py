@@ -70,10 +70,7 @@ class Subexpressions:
         if expr in self._named:  # the same expression twice: one name
             return self._named[expr]
         k = len(self.definitions)
-        symbol = Generated(f"{self.prefix}{k}", (self.prefix, k))  # not Dummy: same model, same order
-        self._index[symbol] = len(self.definitions)
-        self._uses[symbol] = tuple(s for s in expr.free_symbols if s in self.definitions)
-        self.definitions[symbol] = expr
+        symbol = self.define(Generated(f"{self.prefix}{k}", (self.prefix, k)), expr)  # same model, same order
         self._named[expr] = symbol
         return symbol
 
@@ -94,12 +91,24 @@ class Subexpressions:
 
     def derivative(self, expr: sp.Expr, seeds: Mapping[sp.Symbol, sp.Expr], key) -> sp.Expr:
         """Directional derivative Σ_y ∂expr/∂y · ẏ, where ẏ = seeds[y] for the independent symbols
-        and the chain rule for the intermediates. `key` names the direction (memoization)."""
+        and the chain rule for the intermediates, but for an intermediate that `seeds` holds (its
+        derivative is then its seed: a prescribed motion's variable, whose rate is named). `key` names
+        the direction (memoization)."""
         expr = sp.sympify(expr)
         for s in self.dependencies([expr]):
             if (s, key) not in self._derivatives:
-                self._derivatives[(s, key)] = self.add(self._direct(self.definitions[s], seeds, key))
+                self._derivatives[(s, key)] = seeds[s] if s in seeds else \
+                    self.add(self._direct(self.definitions[s], seeds, key))
         return self._direct(expr, seeds, key)
+
+    def define(self, symbol: sp.Symbol, expr: sp.Expr) -> sp.Symbol:
+        """Name `expr` by the given `symbol` (one of eomgen's, new here), an intermediate like the others."""
+        if symbol in self.definitions:
+            raise ValueError(f"{symbol} is defined already")
+        self._index[symbol] = len(self.definitions)
+        self._uses[symbol] = tuple(s for s in sp.sympify(expr).free_symbols if s in self.definitions)
+        self.definitions[symbol] = sp.sympify(expr)
+        return symbol
 
     def _direct(self, expr: sp.Expr, seeds: Mapping[sp.Symbol, sp.Expr], key) -> sp.Expr:
         """Forward-mode derivative of one definition: sum, product, power and the rules of the functions

@@ -59,8 +59,8 @@ class Function:
 @dataclass(frozen=True)
 class Family:
     """One function per item: `prefix` (keys "<prefix>:<item>"), the kind of item ("frame", "load",
-    "joint"), what it is ("{item}" stands for the item's name), the `items` a target prints by default,
-    and `build(item)`; the rest as `Function`'s. An
+    "joint", "drive": a joint of prescribed motion), what it is ("{item}" stands for the item's name),
+    the `items` a target prints by default, and `build(item)`; the rest as `Function`'s. An
     item outside `items` is refused by `known` (None: by `build` itself, e.g. any frame or body)."""
 
     prefix: str

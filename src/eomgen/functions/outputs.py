@@ -184,6 +184,17 @@ def families(eom: EquationsOfMotion, missing: dict) -> list[Family]:
              Family("tau", "load", "tau_of", "generalized force τ(q, u) of load {item}", "q, u", (nv, 1),
                     lambda name: eom.compact[f"tau:{name}"], loads, "vector", load)]
     found = [family for family in found if family.prefix not in missing]
+    drives = tuple(name for name in (j.name for j in system.prescribed) if f"drive:{name}" in eom.compact)
+    if drives:
+        def driven(name: str) -> None:
+            if name not in drives:
+                raise unknown("joint of prescribed motion", name, list(drives))
+        found.append(Family("drive", "drive", "driving_effort", "the effort (torque or force) joint {item}'s "
+                            "prescribed motion takes", "q, u, ud", (1, 1),
+                            lambda name: eom.compact[f"drive:{name}"], drives, "number", driven))
+    else:
+        missing["drive"] = ("driving_effort: no joint of prescribed motion (or M, b and g not all derived: "
+                            "derive with quantities=None)")
     try:
         wrenches, reactions = eom.free_cut_result("joint_wrenches"), eom.free_cut_result("reactions")
     except ModelError as error:

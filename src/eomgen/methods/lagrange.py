@@ -7,7 +7,10 @@ v_S = ṙ_S, Ω_B = vee(Rᵀ Ṙ). Then
     b = d/dt p |_(u̇=0) − ∂T/∂q,                  g = ∂U_gravity/∂q,  U_gravity = −Σ mᵢ g⃗ · r_Sᵢ
     τ = F · ∂v/∂u + T · ∂Ω/∂u − ∂U_spring/∂q − ∂D/∂u
 from the virtual power of the applied forces and torques (efforts held fixed) and the Rayleigh
-function D of the dampers. Only the requested quantities are formed: g alone needs no velocities.
+function D of the dampers. A joint of prescribed motion θ(t) (`drive`): its θ, θ̇, θ̈ are named
+intermediates with d/dt θ = θ̇, d/dt θ̇ = θ̈, and the effort it takes is Lagrange's equation along θ,
+d/dt ∂T/∂θ̇ − ∂T/∂θ + ∂U/∂θ − τ_θ of the loads ("drive:<joint>"). Only the requested quantities are
+formed: g alone needs no velocities.
 
 Speeds that are not coordinate rates (a quaternion base's or a ball joint's body twist, a planar
 joint's velocity in its own axes; q̇ = W(q) u) give Lagrange's equations in quasi-velocities (Hamel),
@@ -49,7 +52,7 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     for body in system.bodies:
         r_S = kin.com(body)
         U_gravity += -body.mass * (system.gravity.T * r_S)[0]
-        if not kin.chain[body] or not kinetic:
+        if not (kin.chain[body] or driven(body)) or not kinetic:
             continue
         v_S = kin.time_derivative(r_S)
         Omega_B = angular_velocity_body(kin, body)
@@ -82,25 +85,58 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     if "g" in quantities:
         compact["g"] = sp.Matrix([d_dq(U_gravity, i) for i in range(n)])
     U = U_gravity
+    drives = [(j.name, j.driven) for j in system.prescribed]  # ∂/∂θ and ∂/∂θ̇ along each prescribed motion
+    along_q = [lambda e, j=j: d_dq(e, j) for j in range(n)] + [
+        lambda e, name=name, theta=theta: sub.derivative(e, {theta: 1}, ("θ", name))
+        for name, (theta, _, _) in drives]
+    along_u = [lambda e, j=j: d_du(e, j) for j in range(n)] + [
+        lambda e, name=name, rate=rate: sub.derivative(e, {rate: 1}, ("θ̇", name))
+        for name, (_, rate, _) in drives]
+    forces = {}  # per load: its generalized force along each u_j, then along each prescribed motion
     if U_elastic:  # bending: U_e enters like a spring, as a generalized force −∂U_e/∂q
         U_e = sub.add(sp.Add(*U_elastic))
         U += U_e
-        compact["tau:elastic"] = sp.Matrix([-d_dq(U_e, j) for j in range(n)])
+        forces["elastic"] = [-d(U_e) for d in along_q]
     for load in system.loads:
         if isinstance(load, Spring):
             U_s = sub.add(spring_potential(kin, load))
             U += U_s
-            tau = [-d_dq(U_s, j) for j in range(n)]
+            forces[load.name] = [-d(U_s) for d in along_q]
         elif isinstance(load, Damper):
             D = damper_dissipation(kin, load)
-            tau = [-d_du(D, j) for j in range(n)]
+            forces[load.name] = [-d(D) for d in along_u]
         else:
             pairs = power(kin, load)
-            tau = [sum((dot(effort, flow.applyfunc(lambda e: d_du(e, j))) for effort, flow in pairs), sp.Integer(0))
-                   for j in range(n)]
-        compact[f"tau:{load.name}"] = sp.Matrix(tau)
+            forces[load.name] = [sum((dot(effort, flow.applyfunc(d)) for effort, flow in pairs),
+                                     sp.Integer(0)) for d in along_u]
+    for name, tau in forces.items():
+        compact[f"tau:{name}"] = sp.Matrix(tau[:n])
+    if kinetic and {"M", "b", "g"} <= set(quantities):
+        for k, (name, _) in enumerate(drives):
+            loads = sum((tau[n + k] for tau in forces.values()), sp.Integer(0))
+            compact[f"drive:{name}"] = sp.Matrix([[drive(kin, T, U_gravity, along_q[n + k], along_u[n + k],
+                                                         d_du) - loads]])
     compact["U"] = U
     return EquationsOfMotion(kin, "lagrange", compact)
+
+
+def driven(body) -> bool:
+    """Whether a joint of prescribed motion moves the body (its energy is then needed for that effort)."""
+    while body is not None:
+        if body.joint.prescribed is not None:
+            return True
+        body = body.parent
+    return False
+
+
+def drive(kin: Kinematics, T, U_gravity, d_theta, d_rate, d_du) -> sp.Expr:
+    """The effort a prescribed motion θ(t) takes besides the loads: Lagrange's equation along θ,
+    d/dt ∂T/∂θ̇ − ∂T/∂θ + ∂U_g/∂θ, with d/dt ∂T/∂θ̇ = Σ_j ∂(∂T/∂θ̇)/∂u_j u̇_j + its rate along q, θ, θ̇."""
+    sub, ud = kin.sub, kin.system.ud
+    p = sub.add(d_rate(T))
+    rate = sub.derivative(p, kin.time_seeds, TIME) + sum((d_du(p, j) * ud[j] for j in range(kin.n)),
+                                                         sp.Integer(0))
+    return sub.add(rate - d_theta(T) + d_theta(U_gravity))
 
 
 def speed_directions(system) -> tuple[list[dict], list]:

@@ -7,7 +7,7 @@ import sympy as sp
 from ..errors import ModelError
 from ..symbols import Generated
 from .beam import integrals, quadratic
-from .joints import Joint, prescribed, complement, rotation_about, scalar, wrench_basis, zero
+from .joints import Joint, drive, complement, rotation_about, scalar, wrench_basis, zero
 
 
 class FlexibleLink(Joint):
@@ -31,7 +31,7 @@ class FlexibleLink(Joint):
     ) -> None:
         super().__init__(name, axis=(0, 0, 1), actuated=actuated)
         if motion is not None:  # the angle a given function of time: no coordinate, no actuator
-            self.prescribed, self.q = prescribed(motion, self.name), None
+            drive(self, motion)
         if not isinstance(stiffening, bool):
             raise ModelError(f"joint '{self.name}': stiffening must be True or False, got {stiffening!r}")
         self.stiffening = stiffening
@@ -63,7 +63,7 @@ class FlexibleLink(Joint):
         return [*super().coordinates, *self.nodal]
 
     def motion(self):
-        angle = self.q if self.prescribed is None else self.prescribed
+        angle = self.q if self.prescribed is None else self.driven[0]
         return rotation_about(self.axis, angle), sp.zeros(3, 1)
 
     def nodes(self) -> list[sp.Expr]:

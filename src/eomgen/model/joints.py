@@ -103,6 +103,7 @@ class Joint:
     pitch_index: int | None = None  # ZYX angles: position of the pitch in the joint's q (singular at ±90°)
     mimic: "Mimic | None" = None  # a joint that follows another's coordinate (`OneAxis`)
     prescribed: sp.Expr | None = None  # a joint driven as a given function of time (`OneAxis`)
+    driven: tuple = ()  # then its variable, rate and acceleration as named intermediates (`drive`)
 
     def __init__(self, name, axis=(0, 0, 1), *, actuated: bool = True, armature=0) -> None:
         self.name, self.q = joint_name(name)
@@ -293,7 +294,8 @@ class OneAxis(Joint):
                  motion=None) -> None:
         super().__init__(name, axis, actuated=actuated, armature=armature)
         self.mimic = None if mimic is None else Mimic(self, mimic)
-        self.prescribed = None if motion is None else prescribed(motion, self.name)
+        if motion is not None:
+            drive(self, motion)
         if self.mimic is not None and self.prescribed is not None:
             raise ModelError(f"joint '{self.name}': give mimic or motion, not both")
         if self.mimic is not None or self.prescribed is not None:
@@ -305,9 +307,9 @@ class OneAxis(Joint):
 
     @property
     def value(self) -> sp.Expr:
-        """The joint variable: q, k q_driver + o for a mimic, or its prescribed motion θ(t)."""
+        """The joint variable: q, k q_driver + o for a mimic, or (the name of) its prescribed motion θ(t)."""
         if self.prescribed is not None:
-            return self.prescribed
+            return self.driven[0]
         if self.mimic is None:
             return self.q
         if self.mimic.driver is None:
@@ -346,15 +348,19 @@ class OneAxis(Joint):
         return f"{type(self).__name__}({self.name!r}, axis={tuple(self.axis)}{mimic}{motion})"
 
 
-def prescribed(motion, joint: str) -> sp.Expr:
-    """A joint's prescribed motion: a real expression in the time `eg.t` and parameters (a number: a
-    joint held still), twice differentiable in t (its rate and acceleration enter the equations)."""
-    expr = scalar(motion, f"joint '{joint}': motion")
+def drive(joint: Joint, motion) -> None:
+    """Give `joint` a prescribed motion: a real expression θ in the time `eg.t` and parameters (a number:
+    a joint held still), twice differentiable in t. It has no coordinate then; θ, θ̇, θ̈ are named by
+    `joint.driven`, which the kinematics define as intermediates (so that the equations can be
+    differentiated along the motion, for the effort that drives it)."""
+    expr = scalar(motion, f"joint '{joint.name}': motion")
     others = [s for s in expr.free_symbols if s.name == time.name and s != time]
     if others:
-        raise ModelError(f"joint '{joint}': motion uses {sp.srepr(others[0])}, not the time eg.t "
+        raise ModelError(f"joint '{joint.name}': motion uses {sp.srepr(others[0])}, not the time eg.t "
                          f"({sp.srepr(time)}); write the motion in eg.t")
-    return expr
+    variable = Generated(f"_θ_{joint.name}", ("motion", joint.name))
+    joint.prescribed, joint.q = expr, None
+    joint.driven = (variable, speed_symbol(variable), speed_symbol(variable, "ddot"))
 
 
 class Revolute(OneAxis):

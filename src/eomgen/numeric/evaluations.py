@@ -118,6 +118,11 @@ class Evaluations(Functions):
         """The row (1 × p) with U = row π of gravity (Pinocchio's `computePotentialEnergyRegressor`)."""
         return self.call("Y_U", q, params=params)
 
+    def driving_effort(self, joint: str, q, u, ud, params=None) -> np.ndarray:
+        """The torque (or force) the prescribed motion θ(t) of `joint` takes at q, u, u̇ and params["t"]:
+        Lagrange's equation along θ, d/dt ∂T/∂θ̇ − ∂T/∂θ + ∂U/∂θ − τ_θ of the loads."""
+        return self.call(f"drive:{joint}", q, u, ud, params)[..., 0, 0]
+
     def joint_wrench(self, joint: str, q, u, ud, params=None) -> tuple[np.ndarray, np.ndarray]:
         """(F, T) the parent exerts on the body of `joint` at the joint origin, world axes (free cut)."""
         W = self.call(f"W:{joint}", q, u, ud, params)[..., 0]
