@@ -7,7 +7,9 @@ of rotation) frequency of the centrifugally stiffened beam: 3.5160, 3.6816, 4.13
 J. Appl. Mech. 49 (1982) 197–202, table 1; Hodges and Rutkowski, "Free-vibration analysis of rotating
 beams by a variable-order finite-element method", AIAA J. 19 (1981) 1459–1466). In the plane of rotation
 (chordwise) the inextensible beam's frequency is ω² = ω_flap² − Ω². Without stiffening the flapwise
-frequency stays ω₀ and the chordwise one follows ω² = ω₀² − Ω², unstable (a real eigenvalue) past ω₀."""
+frequency stays ω₀ and the chordwise one follows ω² = ω₀² − Ω², unstable (a real eigenvalue) past ω₀.
+Gravity along the link: Greenhill's buckling load of a column under its own weight; and Kane, Ryan and
+Banerjee's spin-up."""
 from __future__ import annotations
 
 import sys
@@ -15,6 +17,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import sympy as sp
+from scipy.optimize import brentq
 
 import eomgen as eg
 
@@ -106,3 +110,33 @@ def test_spin_up_stays_bounded_with_stiffening_and_diverges_without():
         assert np.abs(w).max() > L
     except eg.ModelError as failure:  # the integrator gave up as the deflection grew
         assert "integrator" in str(failure)
+
+
+def test_a_column_buckles_under_its_own_weight_at_greenhills_load():
+    """A uniform column clamped upright (the link's angle prescribed 0) under its own weight buckles at
+    m g L³/EI = 7.8373 (Greenhill 1881; Timoshenko and Gere, Theory of Elastic Stability, §2.13): the
+    lowest eigenvalue of the stiffness, bending plus gravity's foreshortening term, crosses zero there.
+    Without stiffening gravity along the link does not enter the bending stiffness: no buckling."""
+    G = sp.Symbol("G", positive=True)
+
+    def column(stiffening: bool):
+        system = eg.System(gravity=(-G, 0, 0))
+        link = eg.FlexibleLink("beam", length=1, mass_per_length=1, EI=1, elements=8, stiffening=stiffening,
+                               motion=0)
+        system.add_body("beam", joint=link, mass=0)
+        return eg.codegen(eg.derive(system)), system.nv
+
+    def lowest(functions, g: float, h: float = 1e-6) -> float:
+        f, n = functions
+        zero = np.zeros(n)
+
+        def force(x):
+            return f.nle(x, zero, {"G": g}) - f.tau_of("elastic", x, zero, {"G": g})
+        K = np.column_stack([(force(h * e) - force(-h * e)) / (2 * h) for e in np.eye(n)])
+        return np.linalg.eigvalsh((K + K.T) / 2)[0]
+
+    stiffened = column(True)
+    assert brentq(lambda g: lowest(stiffened, g), 5, 10) == pytest.approx(7.8373, abs=3e-4)
+    plain = column(False)
+    assert lowest(plain, 20.0) == pytest.approx(lowest(plain, 1e-3), rel=1e-9)
+    assert lowest(plain, 20.0) > 0
