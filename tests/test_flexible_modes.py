@@ -14,7 +14,7 @@ from eomgen.model.beam_modes import clamped_modes
 from eomgen.state import random_states
 
 BETA_L = np.array([1.8751040687, 4.6940911330, 7.8547574382])  # roots of cos βL cosh βL = −1
-m, EI, L, N = 5.0, 50.0, 1.0, 6
+m, EI, L, N = 5.0, 50.0, 1.0, 3
 
 
 def _textbook(m, EI, L, n):
@@ -44,7 +44,7 @@ def _link(modes, elements=N, gravity=(0, -9.81, 0), child=False):
 
 @pytest.fixture(scope="module")
 def models():
-    """The link with k = 1, 2, 3 modes and in full (6 elements), generated once."""
+    """The link (3 elements) with k = 1, 2, 3 modes, generated once."""
     out = {}
     for k in (1, 2, 3):
         system, joint = _link(k)
@@ -52,7 +52,7 @@ def models():
     return out
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(st.floats(0.1, 10), st.floats(0.1, 100), st.floats(0.2, 3), st.integers(1, 5), st.data())
 def test_modes_are_the_textbook_eigenvectors(m, EI, L, n, data):
     """Φᵀ M Φ = 1, Φᵀ K Φ = diag ω², ω the first k of the textbook matrices' eigenfrequencies."""
@@ -68,7 +68,7 @@ def test_modes_are_the_textbook_eigenvectors(m, EI, L, n, data):
 
 def test_modal_frequencies_are_the_full_models(models):
     """Joint locked (θ's row and column removed): the k-mode model's frequencies equal the first k of the
-    full 6-element model (textbook matrices) to 1e-10, near (β_k L)² √(E I / (m L⁴))."""
+    full 3-element model (textbook matrices) to 1e-10, near (β_k L)² √(E I / (m L⁴))."""
     M_full, K_full = _textbook(m, EI, L, N)
     full = np.sqrt(sla.eigh(K_full, M_full, eigvals_only=True))
     analytic = BETA_L**2 * np.sqrt(EI / (m * L**4))
@@ -80,7 +80,7 @@ def test_modal_frequencies_are_the_full_models(models):
         w = np.sqrt(np.sort(sla.eigh(K, M, eigvals_only=True)))
         print(f" {k}   {w}   {np.abs(w / full[:k] - 1).max():.1e}   {np.abs(w / analytic[:k] - 1)}")
         np.testing.assert_allclose(w, full[:k], rtol=1e-10)
-        np.testing.assert_allclose(w, analytic[:k], rtol=2e-3)  # 6 elements' discretisation error
+        np.testing.assert_allclose(w, analytic[:k], rtol=3e-2)  # 3 elements: the discretisation error
 
 
 def test_reduced_equations_are_the_projected_full_ones():
@@ -99,10 +99,11 @@ def test_reduced_equations_are_the_projected_full_ones():
 
 
 def test_free_vibration_with_modes_conserves_energy(models):
-    system, _, f = models[3]
+    """Released at rest from the horizontal, two modes, 0.5 s."""
+    system, _, f = models[2]
     n = system.nv
-    sol = solve_ivp(lambda _, x: np.r_[x[n:], f.forward_dynamics(x[:n], x[n:])], (0, 1.5), np.zeros(2 * n),
-                    method="DOP853", rtol=1e-11, atol=1e-12, t_eval=np.linspace(0, 1.5, 151))
+    sol = solve_ivp(lambda _, x: np.r_[x[n:], f.forward_dynamics(x[:n], x[n:])], (0, 0.5), np.zeros(2 * n),
+                    method="DOP853", rtol=1e-11, atol=1e-12, t_eval=np.linspace(0, 0.5, 51))
     energy = np.array([f.T(x[:n], x[n:]) + f.U(x[:n]) for x in sol.y.T])
     assert sol.success and np.abs(sol.y[1]).max() > 1e-3  # it deflects
     assert np.ptp(energy) < 1e-8 * max(np.abs(energy).max(), 1.0)
