@@ -109,6 +109,26 @@ def test_free_vibration_with_modes_conserves_energy(models):
     assert np.ptp(energy) < 1e-8 * max(np.abs(energy).max(), 1.0)
 
 
+def _swing(system, f, shapes, seconds=1.0):
+    """The tip deflection over a free swing released at rest from the horizontal."""
+    n = system.nv
+    sol = solve_ivp(lambda _, x: np.r_[x[n:], f.forward_dynamics(x[:n], x[n:])], (0, seconds), np.zeros(2 * n),
+                    method="DOP853", rtol=1e-9, atol=1e-11, t_eval=np.linspace(0, seconds, 101))
+    assert sol.success
+    return (shapes @ sol.y[1:n])[-2]
+
+
+@pytest.mark.slow
+def test_tip_deflection_converges_with_modes(models):
+    """A 1 s free swing: the tip deflection of k = 1, 2, 3 modes against all the nodal coordinates of
+    the same 3 elements (stiff: its highest frequency ~ 50 ω1, hence slow), the error falling with k."""
+    full, _ = _link(None)
+    reference = _swing(full, eg.codegen(eg.derive(full, method="lagrange")), np.eye(2 * N))
+    errors = {k: np.abs(_swing(s, f, joint.shapes) - reference).max() for k, (s, joint, f) in models.items()}
+    print(f"\nmax |tip − tip_full| (max |tip_full| = {np.abs(reference).max():.3e} m):", errors)
+    assert errors[1] > errors[2] > errors[3] and errors[3] < 0.05 * np.abs(reference).max()
+
+
 def test_random_modal_amplitudes_deflect_like_nodes(models):
     """Each mode alone moves no node by more than 0.05 (the nodal coordinates' range), and the draws use
     that range."""
