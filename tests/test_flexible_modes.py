@@ -52,7 +52,7 @@ def models():
     return out
 
 
-@settings(max_examples=15, deadline=None)
+@settings(max_examples=10, deadline=None)
 @given(st.floats(0.1, 10), st.floats(0.1, 100), st.floats(0.2, 3), st.integers(1, 5), st.data())
 def test_modes_are_the_textbook_eigenvectors(m, EI, L, n, data):
     """Φᵀ M Φ = 1, Φᵀ K Φ = diag ω², ω the first k of the textbook matrices' eigenfrequencies."""
@@ -98,12 +98,19 @@ def test_reduced_equations_are_the_projected_full_ones():
         np.testing.assert_allclose(fr.b(qr, ur), T.T @ ff.b(T @ qr, T @ ur), rtol=1e-10, atol=1e-10)
 
 
+def _release(system, f, seconds, rtol):
+    """A free swing released at rest from the horizontal, undeformed (DOP853, 101 samples)."""
+    n = system.nv
+    return solve_ivp(lambda _, x: np.r_[x[n:], f.forward_dynamics(x[:n], x[n:])], (0, seconds),
+                     np.zeros(2 * n), method="DOP853", rtol=rtol, atol=rtol / 100,
+                     t_eval=np.linspace(0, seconds, 101))
+
+
 def test_free_vibration_with_modes_conserves_energy(models):
     """Released at rest from the horizontal, two modes, 0.5 s."""
     system, _, f = models[2]
     n = system.nv
-    sol = solve_ivp(lambda _, x: np.r_[x[n:], f.forward_dynamics(x[:n], x[n:])], (0, 0.5), np.zeros(2 * n),
-                    method="DOP853", rtol=1e-11, atol=1e-12, t_eval=np.linspace(0, 0.5, 51))
+    sol = _release(system, f, 0.5, rtol=1e-11)
     energy = np.array([f.T(x[:n], x[n:]) + f.U(x[:n]) for x in sol.y.T])
     assert sol.success and np.abs(sol.y[1]).max() > 1e-3  # it deflects
     assert np.ptp(energy) < 1e-8 * max(np.abs(energy).max(), 1.0)
@@ -111,11 +118,9 @@ def test_free_vibration_with_modes_conserves_energy(models):
 
 def _swing(system, f, shapes, seconds=1.0):
     """The tip deflection over a free swing released at rest from the horizontal."""
-    n = system.nv
-    sol = solve_ivp(lambda _, x: np.r_[x[n:], f.forward_dynamics(x[:n], x[n:])], (0, seconds), np.zeros(2 * n),
-                    method="DOP853", rtol=1e-9, atol=1e-11, t_eval=np.linspace(0, seconds, 101))
+    sol = _release(system, f, seconds, rtol=1e-9)
     assert sol.success
-    return (shapes @ sol.y[1:n])[-2]
+    return (shapes @ sol.y[1:system.nv])[-2]
 
 
 @pytest.mark.slow
@@ -139,7 +144,8 @@ def test_random_modal_amplitudes_deflect_like_nodes(models):
 
 
 @pytest.mark.parametrize("changes, field", [
-    ({"EI": sp.Symbol("EI", positive=True), "modes": 2}, "EI"), ({"length": sp.Symbol("L"), "modes": 1}, "length"),
+    ({"EI": sp.Symbol("EI", positive=True), "modes": 2}, "EI"),
+    ({"length": sp.Symbol("L"), "modes": 1}, "length"),
     ({"modes": 0}, "modes"), ({"modes": 5}, "modes"), ({"modes": 1.5}, "modes"), ({"modes": True}, "modes"),
 ])
 def test_modes_refusals_name_the_joint_and_field(changes, field):

@@ -66,10 +66,10 @@ def layout(system: System) -> Layout:
 def random_states(system: System | Layout, n: int, rng, out: tuple | None = None) -> tuple[np.ndarray, ...]:
     """n states (q, u, u̇): angles in [−π, π] (ZYX pitch within ±0.45 π), lengths in [−0.5, 0.5] (a free
     flyer's and a planar joint's position in [−1, 1], a flexible link's nodes in [−0.05, 0.05], its modal
-    amplitudes as `_scales` says), uniformly random unit quaternions, u and u̇ in [−2, 2]. With `out`, arrays (q,), (q, u) or (q, u, u̇)
-    (C-contiguous float64, n rows) are filled and returned instead: the same values as the first arrays of
-    a whole call with the same generator (the draws in the same order: q's column by column, then u, u̇).
-    `system` may be its `layout(system)`, made once for many calls."""
+    amplitudes as `_scales` says), uniformly random unit quaternions, u and u̇ in [−2, 2]. With `out`,
+    arrays (q,), (q, u) or (q, u, u̇) (C-contiguous float64, n rows) are filled and returned instead: the
+    same values as the first arrays of a whole call with the same generator (the draws in the same order:
+    q's column by column, then u, u̇). `system` may be its `layout(system)`, made once for many calls."""
     if not isinstance(n, int) or isinstance(n, bool) or n < 0:
         raise ModelError(f"random_states: n must be a non-negative integer, got {n!r}")
     if out is not None and not (isinstance(out, tuple) and 1 <= len(out) <= 3):
