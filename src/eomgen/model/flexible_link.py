@@ -27,7 +27,8 @@ class FlexibleLink(Joint):
     at Ω = ω₀), so it is right only for slow rotation.
 
     modes=k (numeric m, E I, L): modal reduction, the coordinates after θ the amplitudes η_1 … η_k of the
-    first k clamped-free modes of the link's own elements (`model.beam_modes`), the nodes d = Φ η."""
+    first k clamped-free modes of the link's own elements (`model.beam_modes`), the nodes d = Φ η
+    (`shapes`: Φ, 2n × k; None without modes)."""
 
     def __init__(
         self, name, length, mass_per_length, EI, elements: int = 1, *, actuated: bool = True,
