@@ -6,7 +6,7 @@ the full model. eg.tradeoff does not take a flexible arm (it derives the recursi
 variants are of rigid bodies), hence this table.
 
 The full model is stiff (its highest frequency grows as n²), so its explicit reference simulation is
-the slow part: keep the elements and seconds small on a small machine (6 elements: DOP853 gave up on
+the slow part: keep the elements and seconds small on a small machine (6 elements: DOP853 stopped early on
 the full model within 0.3 s on 2 shared cores).
 
 Run: python benchmarks/flexible_modes.py [--elements 3] [--seconds 1.0] [--out ...flexible_modes.json]"""
