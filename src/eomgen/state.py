@@ -47,29 +47,29 @@ class Layout:
 
 
 def layout(system: System) -> Layout:
-    """The `Layout` of a system's coordinates (`_kinds` of each joint, a quaternion's 4 columns one run, runs
-    of uniform columns merged)."""
-    labels = [label for j in system.joints for kind in _kinds(j)
-              for label in [kind] * (4 if kind == "quaternion" else 1)]
+    """The `Layout` of a system's coordinates (`_scales` of each joint, a quaternion's 4 columns one run,
+    runs of uniform columns merged)."""
+    labels = [scale for j in system.joints for scale in _scales(j)
+              for _ in range(4 if scale is None else 1)]  # None: a quaternion's column
     runs, k = [], 0
     while k < len(labels):
-        if labels[k] == "quaternion":
+        if labels[k] is None:
             runs.append((k, k + 4, None))
             k += 4
             continue
-        stop = next((i for i in range(k, len(labels)) if labels[i] == "quaternion"), len(labels))
-        runs.append((k, stop, np.array([[SCALES[label]] for label in labels[k:stop]])))
+        stop = next((i for i in range(k, len(labels)) if labels[i] is None), len(labels))
+        runs.append((k, stop, np.array([[scale] for scale in labels[k:stop]])))
         k = stop
     return Layout(len(labels), system.nv, tuple(runs))
 
 
 def random_states(system: System | Layout, n: int, rng, out: tuple | None = None) -> tuple[np.ndarray, ...]:
     """n states (q, u, u̇): angles in [−π, π] (ZYX pitch within ±0.45 π), lengths in [−0.5, 0.5] (a free
-    flyer's and a planar joint's position in [−1, 1], a flexible link's nodes in [−0.05, 0.05]),
-    uniformly random unit quaternions, u and u̇ in [−2, 2]. With `out`, arrays (q,), (q, u) or (q, u, u̇)
-    (C-contiguous float64, n rows) are filled and returned instead: the same values as the first arrays of
-    a whole call with the same generator (the draws in the same order: q's column by column, then u, u̇).
-    `system` may be its `layout(system)`, made once for many calls."""
+    flyer's and a planar joint's position in [−1, 1], a flexible link's nodes in [−0.05, 0.05], its modal
+    amplitudes as `_scales` says), uniformly random unit quaternions, u and u̇ in [−2, 2]. With `out`,
+    arrays (q,), (q, u) or (q, u, u̇) (C-contiguous float64, n rows) are filled and returned instead: the
+    same values as the first arrays of a whole call with the same generator (the draws in the same order:
+    q's column by column, then u, u̇). `system` may be its `layout(system)`, made once for many calls."""
     if not isinstance(n, int) or isinstance(n, bool) or n < 0:
         raise ModelError(f"random_states: n must be a non-negative integer, got {n!r}")
     if out is not None and not (isinstance(out, tuple) and 1 <= len(out) <= 3):
@@ -81,6 +81,16 @@ def random_states(system: System | Layout, n: int, rng, out: tuple | None = None
             raise ModelError(f"random_states: out's {name} must be a writeable C-contiguous float64 array of "
                              f"shape ({n}, {width}), got {getattr(x, 'shape', type(x).__name__)}")
     return plan.fill(n, rng, out)
+
+
+def _scales(joint) -> list[float | None]:
+    """The half-width of each coordinate's draws, `SCALES` of its kind (a quaternion: None). A flexible link's
+    modal amplitude η_k (mass-normalised: η = 1 deflects the tip by about 2/√(m L)) gets 0.05 / max_i |Φ_ik|,
+    so that its mode alone moves no node's deflection or slope by more than a nodal coordinate's 0.05."""
+    scales = [None if kind == "quaternion" else SCALES[kind] for kind in _kinds(joint)]
+    if isinstance(joint, FlexibleLink) and joint.shapes is not None:
+        scales[1:] = SCALES["deflection"] / np.abs(joint.shapes).max(axis=0)
+    return scales
 
 
 def _kinds(joint) -> list[str]:

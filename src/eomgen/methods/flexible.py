@@ -35,8 +35,7 @@ def energies(kin: Kinematics, body) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     h = L / n
     m = joint.mass_per_length
     d = joint.nodes()
-    speeds = dict(zip(joint.coordinates, joint.speeds))
-    d_dot = [speeds.get(x, sp.Integer(0)) for x in d]
+    d_dot = joint.nodes(joint.speeds[-len(joint.nodal):])  # the nodal rates (θ̇ first unless prescribed)
     R, p = kin.R[body], kin.p[body]
     e_x, e_y = R[:, 0], R[:, 1]
     A = kin.time_derivative(p)

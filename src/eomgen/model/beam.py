@@ -50,5 +50,6 @@ def integrals(x0, h) -> dict:
 
 
 def quadratic(matrix, a, b) -> sp.Expr:
-    """aᵀ matrix b for a 4 × 4 element matrix (lists) and nodal vectors a, b."""
-    return sp.Add(*[matrix[k][l] * a[k] * b[l] for k in range(4) for l in range(4)])
+    """aᵀ matrix b for a 4 × 4 element matrix (lists) and nodal vectors a, b, expanded (modal nodes Φ η:
+    a quadratic form in η, k (k + 1)/2 terms, not 16 products of sums)."""
+    return sp.expand(sp.Add(*[matrix[k][l] * a[k] * b[l] for k in range(4) for l in range(4)]))

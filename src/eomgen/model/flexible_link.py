@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
 from ..symbols import Generated
 from .beam import integrals, quadratic
-from .joints import Joint, drive, complement, rotation_about, scalar, wrench_basis, zero
+from .beam_modes import clamped_modes
+from .joints import Joint, complement, drive, rotation_about, scalar, wrench_basis, zero
 
 
 class FlexibleLink(Joint):
@@ -23,11 +25,15 @@ class FlexibleLink(Joint):
     gravity along the link, a tip mass's — stiffen or soften bending (`methods.flexible`).
     stiffening=False: the paper's model, transverse deflection only (u_x = 0); it loses the centrifugal
     stiffening of a spinning link (its in-plane frequency falls as ω² = ω₀² − Ω² and the link buckles
-    at Ω = ω₀), so it is right only for slow rotation."""
+    at Ω = ω₀), so it is right only for slow rotation.
+
+    modes=k (numeric m, E I, L): modal reduction, the coordinates after θ the amplitudes η_1 … η_k of the
+    first k clamped-free modes of the link's own elements (`model.beam_modes`), the nodes d = Φ η
+    (`shapes`: Φ, 2n × k; None without modes)."""
 
     def __init__(
         self, name, length, mass_per_length, EI, elements: int = 1, *, actuated: bool = True,
-        stiffening: bool = True, motion=None,
+        stiffening: bool = True, modes: int | None = None, motion=None,
     ) -> None:
         super().__init__(name, axis=(0, 0, 1), actuated=actuated)
         if motion is not None:  # the angle a given function of time: no coordinate, no actuator
@@ -44,11 +50,20 @@ class FlexibleLink(Joint):
                 raise ModelError(f"joint '{self.name}': {label} must be positive, got {values[label]}")
         self.length, self.mass_per_length, self.EI = values.values()
         self.elements = elements
-        self.nodal = [
-            Generated(f"{kind}{k}_{self.name}", (self.name, kind, k))
-            for k in range(2, elements + 2)
-            for kind in ("w", "s")
-        ]
+        self.shapes = None if modes is None else self._modes(modes)
+        labels = [(kind, k) for k in range(2, elements + 2) for kind in ("w", "s")] if modes is None \
+            else [("eta", k) for k in range(1, modes + 1)]
+        self.nodal = [Generated(f"{kind}{k}_{self.name}", (self.name, kind, k)) for kind, k in labels]
+
+    def _modes(self, k) -> np.ndarray:
+        """Φ (2n × k) of the first k modes, refusing a k out of 1 … 2n or a symbolic m, E I, L."""
+        if not isinstance(k, int) or isinstance(k, bool) or not 1 <= k <= 2 * self.elements:
+            raise ModelError(f"joint '{self.name}': modes must be an integer from 1 to 2 × elements = "
+                             f"{2 * self.elements}, got {k!r}")
+        for label in ("length", "mass_per_length", "EI"):
+            if not (value := getattr(self, label)).is_number:
+                raise ModelError(f"joint '{self.name}': modes needs a numeric {label}, got {value}")
+        return clamped_modes(self.length, self.mass_per_length, self.EI, self.elements, k)[0]
 
     def constants(self) -> dict[str, sp.Expr]:
         return {
@@ -66,9 +81,13 @@ class FlexibleLink(Joint):
         angle = self.q if self.prescribed is None else self.driven[0]
         return rotation_about(self.axis, angle), sp.zeros(3, 1)
 
-    def nodes(self) -> list[sp.Expr]:
-        """The nodal deflections and slopes from the joint to the tip, node 1's (clamped) zero."""
-        return [sp.Integer(0), sp.Integer(0), *self.nodal]
+    def nodes(self, amplitudes=None) -> list[sp.Expr]:
+        """The nodal deflections and slopes from the joint to the tip, node 1's (clamped) zero: the nodal
+        coordinates, or with modes Φ η. `amplitudes`: others in the coordinates' place (their speeds:
+        the nodal rates)."""
+        a = sp.Matrix(self.nodal if amplitudes is None else amplitudes)
+        d = a if self.shapes is None else sp.Matrix(self.shapes) * a
+        return [sp.Integer(0), sp.Integer(0), *d]
 
     def foreshortening(self) -> sp.Expr:
         """u_x(L) = −½ ∫₀ᴸ y'² dx, the tip's axial displacement (0 without stiffening)."""
@@ -80,7 +99,7 @@ class FlexibleLink(Joint):
 
     def tip(self) -> tuple[sp.Matrix, sp.Matrix]:
         """(R, t) of the tip frame in the link frame: turned by the tip slope, at (L + u_x(L), w_tip)."""
-        w, s = self.nodal[-2:]
+        w, s = self.nodes()[-2:]
         return rotation_about(self.axis, s), sp.Matrix([self.length + self.foreshortening(), w, 0])
 
     @property
