@@ -442,7 +442,7 @@ def test_bad_calls_are_refused():
     beam.add_body(
         "link", joint=eg.FlexibleLink("theta", length=1.0, mass_per_length=2.0, EI=3.0, elements=1)
     )
-    with pytest.raises(eg.ModelError, match=r"flexible links is M u̇ \+ b \+ g: derive \['M', 'b'\] too"):
+    with pytest.raises(eg.ModelError, match=r"prescribed motion is M u̇ \+ b \+ g: derive \['M', 'b'\] too"):
         eg.codegen(eg.derive(beam, method="lagrange", quantities=("g",))).inverse_dynamics(
             np.zeros(3), np.zeros(3), np.zeros(3)
         )

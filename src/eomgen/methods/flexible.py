@@ -1,23 +1,23 @@
 """Euler-Bernoulli beam elements with Hermite cubic shape functions (`model.beam`), for flexible links
 in Lagrange II (after the paper "Dynamic modeling and path planning of flexible-link manipulators").
-A point x of the link is at r(x) = p + R ((x + u_x) e_x + y(x) e_y), y = Σ N_k(ξ) d_k on each element
-of length h (ξ = x − x_e), d its nodal deflections and slopes, u_x = −½ ∫₀ˣ y'² ds the foreshortening
-(with stiffening; else 0). With A = ṗ, B = d(R e_x)/dt, C = d(R e_y)/dt, D = R e_y, E = R e_x,
+A point x of the link is at
 
-    ṙ = A + B x + C y + D ẏ + (B u_x + E u̇_x),
-    T = ½ ∫ m |A + B x + C y + D ẏ|² dx + ∫ m [(A·B + x B·B) u_x + A·E u̇_x] dx,
-    U_g = −∫ m g⃗ · (p + R (x + u_x) e_x + R y e_y) dx,   U_e = ½ Σ_e d_eᵀ K_e d_e,
-    K_e = (E I / h³) [[12, 6h, −12, 6h], [6h, 4h², −6h, 2h²], [−12, −6h, 12, −6h], [6h, 2h², −6h, 4h²]],
+    r(x) = p + R (f_x(x) e_x + f_y(x) e_y),   f_x = x + u_x,   f_y = y,
 
-the foreshortening terms to second order in the deflection, the consistent order of the linearized
-equations (Kane, Ryan and Banerjee 1987; B·E = 0, and |u̇_x|², u_x y are of higher order). Reversing
-the order of integration, ∫₀ᴸ f(x) u_x(x) dx = −½ ∫₀ᴸ F(s) y'(s)² ds with F(s) = ∫ₛᴸ f:
+y = Σ N_k(ξ) d_k on each element of length h (ξ = x − x_e, d its nodal deflections and slopes) and
+u_x = −½ ∫₀ˣ y'² ds the foreshortening of the bent beam (with stiffening; else 0). On an element both
+are polynomials in ξ (y of degree 3, u_x of degree 5, its constant the foreshortening of the elements
+before), their coefficients named intermediates, and with A = ṗ, B = d(R e_x)/dt, E = R e_x,
+C = d(R e_y)/dt, D = R e_y,
 
-    ∫ m (A·B + x B·B) u_x = −½ m ∫ y'² [A·B (L − s) + B·B (L² − s²)/2] ds,
-    ∫ m A·E u̇_x = −m A·E ∫ y' ẏ' (L − s) ds,    −∫ m g⃗·E u_x = ½ m g⃗·E ∫ y'² (L − s) ds:
+    ṙ = A + B f_x + E ḟ_x + C f_y + D ḟ_y,    T = ½ ∫ m |ṙ|² dx,    U_g = −∫ m g⃗ · r dx,
+    U_e = ½ Σ_e d_eᵀ K_e d_e,  K_e = (E I / h³) [[12, 6h, −12, 6h], [6h, 4h², −6h, 2h²], [−12, −6h, 12, −6h],
+                                                 [6h, 2h², −6h, 4h²]],
 
-for a link spinning at Ω (B·B = Ω²), the centrifugal axial force P(s) = m Ω² (L² − s²)/2 acting on
-the slope, ½ ∫ P y'² ds. Each integral is exact (the integrands are polynomials)."""
+every integral exact (∫₀ʰ ξ^(i+j) dξ of the coefficients' products), nothing truncated: T is the kinetic
+energy of a motion of the centre line, so M stays positive definite at any deflection. Linearized, the
+foreshortening gives the geometric stiffness of the axial load, ½ ∫ P(s) y'² ds (for a link spinning at
+Ω, P = m Ω² (L² − s²)/2): the centrifugal and gravitational stiffening (Kane, Ryan and Banerjee 1987)."""
 from __future__ import annotations
 
 import sympy as sp
@@ -25,46 +25,58 @@ import sympy as sp
 from ..kinematics import Kinematics
 from ..linalg import dot
 from ..model import FlexibleLink
-from ..model.beam import integrals, quadratic
+from ..model.beam import coefficients, integrals, quadratic
+
+
+def _integral(a: list, b: list, h) -> sp.Expr:
+    """∫₀ʰ a(ξ) b(ξ) dξ for polynomials given by their coefficients."""
+    return sp.Add(*[x * y * h ** (i + j + 1) / (i + j + 1) for i, x in enumerate(a) for j, y in enumerate(b)
+                    if x != 0 and y != 0])
+
+
+def _fields(kin: Kinematics, joint, e: int, h, start) -> tuple[list, list, list, list, sp.Expr]:
+    """(f_x, ḟ_x, f_y, ḟ_y) on element e as coefficients in ξ, and u_x at its end."""
+    sub, c = kin.sub, coefficients(h)
+    d, d_dot = joint.nodes(), joint.nodes(joint.speeds[-len(joint.nodal):])
+    de, dde = d[2 * e:2 * e + 4], d_dot[2 * e:2 * e + 4]
+    y = [sub.add(sp.Add(*[c[k][p] * de[k] for k in range(4)])) for p in range(4)]
+    y_dot = [sp.Add(*[c[k][p] * dde[k] for k in range(4)]) for p in range(4)]
+    f_x = [e * h, sp.Integer(1)]
+    if not joint.stiffening:
+        return f_x, [], y, y_dot, start
+    slope = [(p + 1) * y[p + 1] for p in range(3)]
+    square = [sp.Add(*[slope[i] * slope[p - i] for i in range(max(0, p - 2), min(p, 2) + 1)])
+              for p in range(5)]  # y'² (degree 4)
+    u_x = [start] + [sub.add(-square[p] / (2 * (p + 1))) for p in range(5)]
+    end = sub.add(sp.Add(*[u * h**p for p, u in enumerate(u_x)]))
+    u_x_dot = list(kin.time_derivative(sp.Matrix(u_x)))
+    return [f_x[0] + u_x[0], f_x[1] + u_x[1], *u_x[2:]], u_x_dot, y, y_dot, end
 
 
 def energies(kin: Kinematics, body) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     """(T, U_gravity, U_elastic) of the flexible link moved by `body`'s FlexibleLink joint."""
     joint, sub = body.joint, kin.sub
-    n, L = joint.elements, joint.length
-    h = L / n
-    m = joint.mass_per_length
-    d = joint.nodes()
-    d_dot = joint.nodes(joint.speeds[-len(joint.nodal):])  # the nodal rates (θ̇ first unless prescribed)
+    h, m = joint.length / joint.elements, joint.mass_per_length
     R, p = kin.R[body], kin.p[body]
-    e_x, e_y = R[:, 0], R[:, 1]
-    A = kin.time_derivative(p)
-    B, C = kin.time_derivative(sp.Matrix(e_x)), kin.time_derivative(sp.Matrix(e_y))
-    AA, AB, AC, AD = dot(A, A), dot(A, B), dot(A, C), dot(A, e_y)
-    BB, BC, BD, CC, CD, DD = dot(B, B), dot(B, C), dot(B, e_y), dot(C, C), dot(C, e_y), dot(e_y, e_y)
-    AE = dot(A, e_x)
-    gp, gx, gy = (dot(kin.system.gravity, v) for v in (p, e_x, e_y))
-    T, U_g, U_e = [], [], []
-    for e in range(n):
-        I = integrals(e * h, h)
-        de, dde = d[2 * e:2 * e + 4], d_dot[2 * e:2 * e + 4]
-        y_int = sum(I["N"][k] * de[k] for k in range(4))
-        yd_int = sum(I["N"][k] * dde[k] for k in range(4))
-        xy = sum(I["xN"][k] * de[k] for k in range(4))
-        xyd = sum(I["xN"][k] * dde[k] for k in range(4))
-        yy, yyd, ydyd = quadratic(I["NN"], de, de), quadratic(I["NN"], de, dde), quadratic(I["NN"], dde, dde)
-        T_e = m / 2 * (AA * I["1"] + 2 * AB * I["x"] + 2 * AC * y_int + 2 * AD * yd_int + BB * I["xx"]
-                       + 2 * BC * xy + 2 * BD * xyd + CC * yy + 2 * CD * yyd + DD * ydyd)
-        U_ge = -m * (gp * I["1"] + gx * I["x"] + gy * y_int)
-        if joint.stiffening:  # ∫ y'² (L − s), ∫ y'² (L² − s²), ∫ y' ẏ' (L − s) over the element
-            slope2_L = L * quadratic(I["G"], de, de) - quadratic(I["xG"], de, de)
-            slope2_LL = L**2 * quadratic(I["G"], de, de) - quadratic(I["xxG"], de, de)
-            slope_rate_L = L * quadratic(I["G"], de, dde) - quadratic(I["xG"], de, dde)
-            T_e += -m / 2 * (AB * slope2_L + BB * slope2_LL / 2) - m * AE * slope_rate_L
-            U_ge += m * gx * slope2_L / 2
-        T.append(sub.add(T_e))
-        U_g.append(sub.add(U_ge))
-        U_e.append(sub.add(joint.EI * quadratic(I["K"], de, de) / 2))
+    E, D = R[:, 0], R[:, 1]
+    A, B, C = kin.time_derivative(p), kin.time_derivative(sp.Matrix(E)), kin.time_derivative(sp.Matrix(D))
+    vectors = {"A": A, "B": B, "E": E, "C": C, "D": D}
+    known = {("B", "E"): 0, ("E", "E"): 1, ("E", "D"): 0, ("C", "D"): 0, ("D", "D"): 1}  # R orthonormal
+    names = list(vectors)
+    dots = {(a, b): known.get((a, b), None) for i, a in enumerate(names) for b in names[i:]}
+    dots = {key: sub.add(dot(vectors[key[0]], vectors[key[1]])) if value is None else value
+            for key, value in dots.items()}
+    gp, gx, gy = (dot(kin.system.gravity, v) for v in (p, E, D))
+    T, U_g, U_e, u_end = [], [], [], sp.Integer(0)
+    d = joint.nodes()
+    for e in range(joint.elements):
+        f_x, f_x_dot, f_y, f_y_dot, u_end = _fields(kin, joint, e, h, u_end)
+        fields = {"A": [sp.Integer(1)], "B": f_x, "E": f_x_dot, "C": f_y, "D": f_y_dot}
+        T.append(sub.add(m / 2 * sp.Add(*[(1 if a == b else 2) * w * _integral(fields[a], fields[b], h)
+                                          for (a, b), w in dots.items() if w != 0])))
+        U_g.append(sub.add(-m * (gp * h + gx * _integral([1], f_x, h) + gy * _integral([1], f_y, h))))
+        de = d[2 * e:2 * e + 4]
+        U_e.append(sub.add(joint.EI * quadratic(integrals(h)["K"], de, de) / 2))
     return sp.Add(*T), sp.Add(*U_g), sp.Add(*U_e)
 
 

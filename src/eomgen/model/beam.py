@@ -1,13 +1,10 @@
-"""Euler-Bernoulli beam elements with Hermite cubic shape functions: the shape functions and their
-integrals over one element, exact (the integrands are polynomials), made once in the element's own
-symbols x₀ (where it starts along the link) and h (its length) and then given values.
+"""Euler-Bernoulli beam elements with Hermite cubic shape functions: the shape functions, their
+coefficients in ξ, and their integrals over one element, exact (the integrands are polynomials), made
+once in the element's own symbols ξ and h (its length) and then given values.
 
-On an element, y(x) = Σ_k N_k(ξ) d_k with ξ = x − x₀ and d its nodal deflections and slopes; with
-s = x₀ + ξ the integrals are
-
-    "1", "x", "xx":   ∫ 1, ∫ s, ∫ s²                       "N", "xN":  ∫ N_k, ∫ s N_k
-    "NN":             ∫ N_k N_l                             "K":        ∫ N_k'' N_l''   (bending)
-    "G", "xG", "xxG": ∫ N_k' N_l', ∫ s N_k' N_l', ∫ s² N_k' N_l'   (foreshortening: −½ ∫ y'²)"""
+On an element, y(x) = Σ_k N_k(ξ) d_k with ξ = x − x₀ (x₀ where it starts) and d its nodal deflections
+and slopes; the integrals are "NN" = ∫ N_k N_l (mass), "K" = ∫ N_k'' N_l'' (bending), "G" = ∫ N_k' N_l'
+(foreshortening: −½ ∫ y'² = −½ dᵀ G d)."""
 from __future__ import annotations
 
 from functools import cache
@@ -16,7 +13,7 @@ import sympy as sp
 
 from ..symbols import Generated
 
-_xi, _h, _x0 = (Generated(x, ("element", x), positive=True) for x in ("xi", "h", "x0"))
+_xi, _h = (Generated(x, ("element", x), positive=True) for x in ("xi", "h"))
 
 
 def shape_functions(h=_h, xi=_xi) -> list[sp.Expr]:
@@ -27,22 +24,28 @@ def shape_functions(h=_h, xi=_xi) -> list[sp.Expr]:
 
 @cache
 def _symbolic() -> dict:
-    N, x = shape_functions(), _x0 + _xi
+    N = shape_functions()
     dN, ddN = [n.diff(_xi) for n in N], [n.diff(_xi, 2) for n in N]
 
-    def integral(e):
-        return sp.expand(sp.integrate(sp.expand(e), (_xi, 0, _h)))
-
-    def pairs(a, b, weight=1):
-        return [[integral(weight * p * r) for r in b] for p in a]
-    return {"1": integral(1), "x": integral(x), "xx": integral(x * x), "N": [integral(n) for n in N],
-            "xN": [integral(x * n) for n in N], "NN": pairs(N, N), "K": pairs(ddN, ddN),
-            "G": pairs(dN, dN), "xG": pairs(dN, dN, x), "xxG": pairs(dN, dN, x * x)}
+    def pairs(a, b):
+        return [[sp.expand(sp.integrate(sp.expand(p * r), (_xi, 0, _h))) for r in b] for p in a]
+    return {"NN": pairs(N, N), "K": pairs(ddN, ddN), "G": pairs(dN, dN)}
 
 
-def integrals(x0, h) -> dict:
-    """The element integrals (module doc) of the element that starts at x0 and has length h."""
-    values = {_x0: x0, _h: h}
+@cache
+def _coefficients() -> list[list[sp.Expr]]:
+    N = shape_functions()
+    return [[sp.Poly(n, _xi).coeff_monomial(_xi**p) for p in range(4)] for n in N]
+
+
+def coefficients(h) -> list[list[sp.Expr]]:
+    """c[k][p]: N_k(ξ) = Σ_p c[k][p] ξ^p on an element of length h."""
+    return [[c.xreplace({_h: h}) for c in row] for row in _coefficients()]
+
+
+def integrals(h) -> dict:
+    """The element integrals (module doc) of an element of length h."""
+    values = {_h: h}
 
     def given(e):
         return [given(a) for a in e] if isinstance(e, list) else sp.sympify(e).xreplace(values)

@@ -19,8 +19,9 @@ def nodal_matrices(length, mass_per_length, EI, elements: int) -> tuple[np.ndarr
     h = sp.sympify(length) / elements
     size = 2 * elements + 2
     M, K = np.zeros((size, size)), np.zeros((size, size))
+    element = integrals(h)
     for e in range(elements):
-        element, block = integrals(e * h, h), slice(2 * e, 2 * e + 4)
+        block = slice(2 * e, 2 * e + 4)
         M[block, block] += np.array(element["NN"], dtype=float)
         K[block, block] += np.array(element["K"], dtype=float)
     return float(mass_per_length) * M[2:, 2:], float(EI) * K[2:, 2:]

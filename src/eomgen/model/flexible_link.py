@@ -21,8 +21,8 @@ class FlexibleLink(Joint):
     `motion` (an expression of eg.t) the angle is prescribed, as for `Revolute(..., motion=...)`.
 
     stiffening (the default): a point at x also moves along the link by the foreshortening of the bent
-    beam, u_x(x) = −½ ∫₀ˣ y'² ds (second order in the deflection), so that axial loads — centrifugal,
-    gravity along the link, a tip mass's — stiffen or soften bending (`methods.flexible`).
+    beam, u_x(x) = −½ ∫₀ˣ y'² ds, kept whole in the energies (`methods.flexible`), so that axial loads —
+    centrifugal, gravity along the link, a tip mass's — stiffen or soften bending.
     stiffening=False: the paper's model, transverse deflection only (u_x = 0); it loses the centrifugal
     stiffening of a spinning link (its in-plane frequency falls as ω² = ω₀² − Ω² and the link buckles
     at Ω = ω₀), so it is right only for slow rotation.
@@ -93,8 +93,8 @@ class FlexibleLink(Joint):
         """u_x(L) = −½ ∫₀ᴸ y'² dx, the tip's axial displacement (0 without stiffening)."""
         if not self.stiffening:
             return sp.Integer(0)
-        h, d = self.length / self.elements, self.nodes()
-        return -sp.Add(*[quadratic(integrals(e * h, h)["G"], d[2 * e:2 * e + 4], d[2 * e:2 * e + 4])
+        G, d = integrals(self.length / self.elements)["G"], self.nodes()
+        return -sp.Add(*[quadratic(G, d[2 * e:2 * e + 4], d[2 * e:2 * e + 4])
                          for e in range(self.elements)]) / 2
 
     def tip(self) -> tuple[sp.Matrix, sp.Matrix]:
