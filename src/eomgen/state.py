@@ -89,7 +89,7 @@ def _scales(joint) -> list[float | None]:
     so that its mode alone moves no node's deflection or slope by more than a nodal coordinate's 0.05."""
     scales = [None if kind == "quaternion" else SCALES[kind] for kind in _kinds(joint)]
     if isinstance(joint, FlexibleLink) and joint.shapes is not None:
-        scales[1:] = SCALES["deflection"] / np.abs(joint.shapes).max(axis=0)
+        scales[-len(joint.nodal):] = SCALES["deflection"] / np.abs(joint.shapes).max(axis=0)
     return scales
 
 
