@@ -111,6 +111,11 @@ def test_refusals_name_the_joint():
         eg.kane(chain(0), independent=None)
     with pytest.raises(eg.ModelError, match="joint 'j': motion uses .* not the time eg.t"):
         eg.Revolute("j", motion=sp.Symbol("t", real=True))
+    other = eg.System()
+    arm = other.add_body("arm", joint=eg.Revolute("q1"), mass=1.0)
+    with pytest.raises(eg.ModelError, match=r"body 'b': joint motion depends on the coordinates or speeds "
+                                            r"\['q1'\]; it must be a function of eg.t and parameters"):
+        other.add_body("b", parent=arm, joint=eg.Revolute("h", motion=other.q[0] + t), mass=1.0)
     with pytest.raises(eg.ModelError, match="joint 'j': give mimic or motion, not both"):
         eg.Revolute("j", mimic=("k", 1, 0), motion=t)
     with pytest.raises(eg.ModelError, match=r"joint 'j': motion: theta\(t\) is not a value"):

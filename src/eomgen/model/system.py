@@ -268,8 +268,10 @@ class System:
             moving = sorted(str(s) for s in sp.sympify(value).free_symbols
                             if s in motion or isinstance(s, Generated))
             if moving:
+                what = "a function of eg.t and parameters" if field_name == "joint motion" else \
+                    "constant (a parameter or a number)"
                 raise ModelError(f"body '{name}': {field_name} depends on the coordinates or speeds "
-                                 f"{moving}; it must be constant (a parameter or a number)")
+                                 f"{moving}; it must be {what}")
         with self._changing():
             self._add_joint(joint)
             for field_name, value in fields.items():
