@@ -123,7 +123,8 @@ def _api(fn: Function, used: frozenset) -> str:
 
 def _family_api(family: Family, table: str, items: str) -> str:
     """The public function of a family but the frames': {name}(item, inputs, params)."""
-    returns = {"vector": "X[..., 0]", "wrench": "X[..., :3, 0], X[..., 3:, 0]"}.get(family.form, "X")
+    returns = {"vector": "X[..., 0]", "number": "X[..., 0, 0]",
+               "wrench": "X[..., :3, 0], X[..., 3:, 0]"}.get(family.form, "X")
     return (f"def {family.name}({family.kind}, {family.inputs}, params=None):\n"
             f"    \"\"\"{family.what.format(item=family.kind)}, a name of {items}.\"\"\"\n"
             f"    f, used = {table}[_item({items}, {family.kind!r}, {family.kind})]\n"
