@@ -134,3 +134,17 @@ def test_the_mass_matrix_stays_positive_definite_with_stiffening():
     rng = np.random.default_rng(4)
     q = np.c_[rng.uniform(-np.pi, np.pi, 200), rng.uniform(-0.25, 0.25, (200, system.nq - 1))]
     assert np.linalg.eigvalsh(f.M(q)).min() > 0
+
+
+def test_jacobians_beyond_a_flexible_link_are_refused():
+    """A body on the tip moves with the nodes (through the tip's deflection, slope and foreshortening), which
+    the Jacobians' columns do not hold: J and J̇ u of such a body are refused by name, not given wrong."""
+    chain = _link(2, gravity=(0, -9.81, 0))
+    flex = chain.body("link")
+    chain.add_body("hand", parent=flex, joint=eg.Revolute("q_2"), mass=1.0, com=(0.1, 0, 0))
+    f = eg.codegen(eg.derive(chain))
+    q, u = np.zeros(chain.nq), np.zeros(chain.nv)
+    assert f.jacobian("link", q).shape == (6, chain.nv)  # the link frame itself sits on the joint
+    for call in (lambda: f.jacobian("hand", q), lambda: f.jacobian_dot_u("hand", q, u)):
+        with pytest.raises(eg.ModelError, match="body 'hand' sits beyond flexible link 'theta'"):
+            call()

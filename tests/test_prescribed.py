@@ -19,14 +19,15 @@ MOTIONS = [0.3 * sp.sin(1.7 * t) + 0.2 * t**2, 0.1 * sp.cos(2 * t) - 0.05 * t, 0
 
 
 def chain(prescribed: int | None):
-    """A spatial 3-joint chain (revolute z, prismatic x, revolute about (0, 1, 1)/√2) with joint
-    `prescribed` driven by MOTIONS[prescribed] (None: all free)."""
+    """A spatial 3-joint chain (revolute z, prismatic x, revolute about (0, 1, 1)/√2; each with an
+    armature) with joint `prescribed` driven by MOTIONS[prescribed] (None: all free)."""
     joints = [eg.Revolute, eg.Prismatic, eg.Revolute]
     axes = [(0, 0, 1), (1, 0, 0), (0, 1, 1)]
     system, parent = eg.System(gravity=(0, -9.81, -2.0)), None
     for k, (joint, axis) in enumerate(zip(joints, axes)):
         motion = {"motion": MOTIONS[k]} if k == prescribed else {}
-        parent = system.add_body(f"b{k}", parent=parent, joint=joint(f"q{k}", axis=axis, **motion),
+        moving = joint(f"q{k}", axis=axis, armature=0.05, **motion)
+        parent = system.add_body(f"b{k}", parent=parent, joint=moving,
                                  mass=1.0 + k, com=(0.2, 0.1 * k, -0.1),
                                  inertia=[[0.1, 0.01, 0], [0.01, 0.2, 0.02], [0, 0.02, 0.15 + 0.01 * k]],
                                  placement=eg.Placement(translation=(0.3, 0.1, 0.2 * k)))
@@ -128,3 +129,28 @@ def test_refusals_name_the_joint():
                  lambda: f.regressor(np.zeros(2), np.zeros(2), np.zeros(2), params={"t": 0.0})):
         with pytest.raises(eg.ModelError, match="joint 'q1'"):
             call()
+
+
+def test_what_a_prescribed_motion_refuses_or_takes_along():
+    """Values in t other than a motion, a motor on the driven joint, worked solutions, JAX's rhs and the
+    energy balance (which misses the drive's work) are refused by name; a motion without t simulates."""
+    timed = chain(0)
+    timed.add_body("extra", parent=timed.body("b2"), joint=eg.Revolute("q3"), mass=1.0, com=(0.1 * t, 0, 0))
+    with pytest.raises(eg.ModelError, match="body 'extra' depends on the time eg.t"):
+        eg.derive(timed)
+    with pytest.raises(eg.ModelError, match="joint 'q0' has a prescribed motion"):
+        chain(0).add_motor("b0", resistance=1, inductance=0.1, torque_constant=0.1, rotor_inertia=0.01)
+    with pytest.raises(eg.ModelError, match="solution: joint 'q0' has a prescribed motion"):
+        eg.solution(chain(0))
+    f = eg.codegen(eg.derive(chain(0)), backend="jax")
+    with pytest.raises(eg.ModelError, match="rhs does not give the time to the prescribed motion of joint"):
+        f.rhs(0.5, np.zeros(4))
+    sim = eg.simulate(eg.derive(chain(0)), (np.zeros(2), np.zeros(2)), (0, 0.2))
+    assert np.isfinite(sim.energy).all()
+    with pytest.raises(eg.ModelError, match="balance: the work of joint 'q0'"):
+        sim.balance
+    held = eg.System(gravity=(0, 0, -9.81))
+    arm = held.add_body("arm", joint=eg.Revolute("h", motion=0.5), mass=1.0, com=(0.2, 0, 0))
+    held.add_body("bob", parent=arm, joint=eg.Revolute("phi", axis=(0, 1, 0)), mass=1.0, com=(0, 0, -1))
+    sim = eg.simulate(eg.derive(held), ([0.3], [0.0]), (0, 0.5))
+    assert np.ptp(sim.energy) < 1e-8  # held still: the drive does no work, T + U is conserved

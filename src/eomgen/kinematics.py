@@ -43,6 +43,7 @@ class Kinematics:
         self.columns: dict[Body, list[tuple[int, sp.Matrix, sp.Matrix]]] = {}
         self._axes: dict[Body, sp.Matrix] = {}  # the axes the joint's S and bias are written in
         self.chain: dict[Body, list[Body]] = {}  # the moving joints from the root to the body
+        self.on_tip: dict[Body, str] = {}  # bodies beyond a flexible link: the link's joint
         self._cache: dict = {}
         for body in system.bodies:
             self._place(body)
@@ -53,6 +54,8 @@ class Kinematics:
         parent, joint = body.parent, body.joint
         R_parent = self.R[parent] if parent else sp.eye(3)
         p_parent = self.p[parent] if parent else sp.zeros(3, 1)
+        if parent is not None and (isinstance(parent.joint, FlexibleLink) or parent in self.on_tip):
+            self.on_tip[body] = self.on_tip.get(parent, parent.joint.name)
         if parent is not None and isinstance(parent.joint, FlexibleLink):  # children sit on the tip
             R_tip, t_tip = parent.joint.tip()
             p_parent = p_parent + matmul(R_parent, t_tip)
@@ -103,9 +106,18 @@ class Kinematics:
         return self._cached(("Theta", body), build)
 
     # --- Jacobians (3 × n, world axes) --------------------------------------------------------
+    def rigid(self, body: Body | None) -> None:
+        """Refuse, naming it, a body beyond a flexible link: its Jacobians' columns of the link's nodes
+        (which move it through the tip) are not formed (J u and J̇ u would miss the bending)."""
+        if body in self.on_tip:
+            raise ModelError(f"body '{body.name}' sits beyond flexible link '{self.on_tip[body]}': its "
+                             "Jacobians (J, J̇ u, contact rows) are not formed; the equations of motion are")
+
     def J_P(self, point: Point) -> sp.Matrix:
         """Translational Jacobian of a point: column i is Σ v_k + ω_k × (r − p_k) over the joints k
         on the way whose motion has u_i (one joint, or a driver and its mimics)."""
+        self.rigid(point.body)
+
         def build():
             J = sp.zeros(3, self.n)
             if point.body is None:
@@ -120,6 +132,7 @@ class Kinematics:
 
     def J_R(self, body: Body | None) -> sp.Matrix:
         """Rotational Jacobian: column i is Σ ω_k over the joints on the way whose motion has u_i."""
+        self.rigid(body)
         J = sp.zeros(3, self.n)
         for k in self.chain.get(body, []):
             for i, _, w in self.columns[k]:
@@ -194,6 +207,7 @@ class Kinematics:
 
     def Jdot_u_P(self, point: Point) -> sp.Matrix:
         """J̇_P u: the acceleration of a point when u̇ = 0, a_i + α_i × c + Ω_i × (Ω_i × c), c = r − p_i."""
+        self.rigid(point.body)
         if point.body is None:
             return sp.zeros(3, 1)
 
@@ -206,6 +220,7 @@ class Kinematics:
 
     def Jdot_u_R(self, body: Body | None) -> sp.Matrix:
         """J̇_R u: the angular acceleration of a body when u̇ = 0."""
+        self.rigid(body)
         return self._bias(body)[0]
 
     def jacobian_dot_u(self, name: str) -> sp.Matrix:

@@ -54,8 +54,9 @@ def plot(simulation: Simulation, path=None, size: tuple[float, float] = (8.0, 2.
     ax.plot(s.t, s.work, "--", label="W")
     ax.set_ylabel("energy")
     right = ax.twinx()
-    right.plot(s.t, s.balance, color="C3", lw=1, label="E − E(t0) − W (right)")
-    right.set_ylabel("balance")
+    if not s.functions.system.prescribed:  # else the drive's work is not in W (`Simulation.balance`)
+        right.plot(s.t, s.balance, color="C3", lw=1, label="E − E(t0) − W (right)")
+        right.set_ylabel("balance")
     handles = [h for a in (ax, right) for h in a.get_legend_handles_labels()[0]]
     ax.legend(handles=handles, loc="upper left", fontsize="small")
     ax.set_xlabel("t")

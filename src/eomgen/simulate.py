@@ -56,7 +56,11 @@ class Simulation:
 
     @property
     def balance(self) -> np.ndarray:
-        """E(t) − E(t0) − W(t): zero for exact integration."""
+        """E(t) − E(t0) − W(t): zero for exact integration (not offered where a prescribed motion does
+        work, which W does not count)."""
+        if self.functions.system.prescribed:
+            raise ModelError(f"balance: the work of joint '{self.functions.system.prescribed[0].name}''s "
+                             "prescribed motion is not in W; compare E with ∫ driving_effort · θ̇ dt")
         return self.energy - self.energy[0] - self.work
 
 
@@ -223,7 +227,7 @@ def _report(f, t, y, params, source) -> Simulation:
         closure = np.linalg.norm(f.closure_residual(q, params), axis=-1) if f.closure_rows else None
         velocity = np.linalg.norm(np.einsum("nij,nj->ni", f.contact_jacobian(q, params), u), axis=-1)
     currents = x[:, n:] if x.shape[1] > n else None
-    if f.system.prescribed:  # T and U at each state's time (the drive's work is not in y[:, -1])
+    if "t" in f.parameters.names:  # T and U at each state's time (the drive's work is not in y[:, -1])
         energy = np.array([f.energy(xk, {**(params or {}), "t": tk}) for tk, xk in zip(t, x)])
     else:
         energy = f.energy(x, params)

@@ -1,11 +1,14 @@
 """The derivations. Each is independent of the others; their agreement is a test."""
 from __future__ import annotations
 
+import sympy as sp
+
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..kinematics import Kinematics
 from ..model import FlexibleLink
 from ..model.system import System
+from ..symbols import t
 from . import free_cut, lagrange, projected_newton_euler, recursive
 from .flexible import flexible_mass
 
@@ -47,6 +50,12 @@ def derive(system: System, method: str | None = None, quantities=None,
     if method != "lagrange" and moving:
         raise ModelError(f"method {method!r} does not handle the prescribed motion of joint '{moving[0]}' "
                          "(its rate is no column of the Jacobians): use 'lagrange', which differentiates in time")
+    timed = [where for where, values in system.fields() if not where.endswith(": motion")
+             and any(t in sp.sympify(v).free_symbols for v in values)]
+    if moving and timed:
+        raise ModelError(f"{timed[0]} depends on the time eg.t, which only a joint's motion may (Lagrange's "
+                         "d/dt has no ∂/∂t of other values); with prescribed motion a parameter named 't' is "
+                         "the time")
     if moving and system.constraint_rows():
         raise ModelError(f"joint '{moving[0]}': prescribed motion in a system with contacts, loops or "
                          "rolling disks is not supported (their rows J_c u = 0 would miss the motion's own rate)")

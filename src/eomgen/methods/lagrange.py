@@ -59,6 +59,7 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
         T_parts.append(sub.add(body.mass * (v_S.T * v_S)[0] / 2
                                + (Omega_B.T * body.inertia * Omega_B)[0] / 2))
     T_parts += [inertia * u[i] ** 2 / 2 for i, inertia in armature(kin)]  # rotors: ½ I_a u_i²
+    T_parts += [j.armature * j.driven[1] ** 2 / 2 for j in system.prescribed if j.armature != 0]  # ½ I_a θ̇²
     U_elastic = []
     for body in system.bodies:
         if isinstance(body.joint, FlexibleLink):

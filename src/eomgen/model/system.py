@@ -138,20 +138,26 @@ class System:
             S[r, i] = 1
         return S
 
+    def fields(self) -> list[tuple[str, list]]:
+        """(where, its values) of every value of the model: gravity, each body's and joint's, frame's,
+        load's and motor's."""
+        found = [("gravity", list(self.gravity))]
+        for b in self.bodies:
+            found.append((f"body '{b.name}'", [b.mass, *b.com, *b.inertia, *b.placement.rotation,
+                                               *b.placement.translation]))
+            found += [(f"joint '{b.joint.name}': {k}", [v]) for k, v in b.joint.constants().items()]
+        found += [(f"frame '{name}'", [*f.placement.rotation, *f.placement.translation])
+                  for name, f in self.frames.items()]
+        found += [(f"load '{load.name}'", [x for v in vars(load).values() for x in _entries(v)])
+                  for load in self.loads]
+        found += [(f"motor '{m.name}'", [m.voltage, m.resistance, m.inductance, m.torque_constant,
+                                         m.gear_ratio]) for m in self.motors]  # circuit and voltage
+        return found
+
     @property
     def parameters(self) -> set[sp.Symbol]:
         """Symbols of the model that are neither coordinates nor speeds."""
-        exprs = list(self.gravity)
-        for b in self.bodies:
-            exprs += [b.mass, *b.com, *b.inertia, *b.placement.rotation, *b.placement.translation]
-            exprs += list(b.joint.constants().values())
-        for f in self.frames.values():
-            exprs += [*f.placement.rotation, *f.placement.translation]
-        for load in self.loads:
-            exprs += [x for v in vars(load).values() for x in _entries(v)]
-        for m in self.motors:  # the armature circuit's constants and the voltage (rhs)
-            exprs += [m.voltage, m.resistance, m.inductance, m.torque_constant, m.gear_ratio]
-        free = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
+        free = {s for _, values in self.fields() for e in values for s in sp.sympify(e).free_symbols}
         return free - set(self.q) - set(self.u)
 
     # --- building ----------------------------------------------------------------------------
@@ -487,6 +493,9 @@ class System:
         if not isinstance(b.joint, Revolute) or b.joint.mimic is not None:
             raise ModelError(f"motor on body '{b.name}': a DC motor drives a revolute joint, "
                              f"not {type(b.joint).__name__}")
+        if b.joint.prescribed is not None:
+            raise ModelError(f"motor on body '{b.name}': joint '{b.joint.name}' has a prescribed motion; a "
+                             "DC motor drives a free revolute joint")
         name = name or f"motor_{b.joint.name}"
         if any(m.name == name for m in self.motors):
             raise ModelError(f"duplicate motor name '{name}'")

@@ -173,6 +173,9 @@ class JaxEoM(JaxPrinted, NumericEoM):
         if self.system.motors:
             raise ModelError(f"the JAX backend's rhs does not integrate the DC motors "
                              f"{[str(m.current) for m in self.system.motors]}: use the NumPy or C backend")
+        if self.system.prescribed:
+            raise ModelError(f"the JAX backend's rhs does not give the time to the prescribed motion of "
+                             f"joint '{self.system.prescribed[0].name}': use the NumPy or C backend")
         x = jnp.asarray(x, self.dtype)
         q, u = x[..., :self.nq], x[..., self.nq:]
         tau_a = tau(t, q, u) if callable(tau) else tau

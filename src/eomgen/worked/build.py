@@ -54,6 +54,9 @@ def solution(
             f"solution: expected an eomgen.System or KaneEquations, got {type(equations).__name__}"
         )
     system = equations
+    if system.prescribed:
+        raise ModelError(f"solution: joint '{system.prescribed[0].name}' has a prescribed motion, which the "
+                         "worked steps (velocities J u, d/dt along q and u) leave out; use eg.derive")
     methods = tuple(dict.fromkeys((methods,) if isinstance(methods, str) else methods))  # each once
     unknown = [m for m in methods if m not in METHODS]
     if unknown or not methods:
