@@ -111,9 +111,13 @@ def stacked(setup: Setup, q, u, ud) -> np.ndarray:
 
 def svd_rank(W: np.ndarray) -> int | None:
     """The numerical rank from the singular values of the column-normalised W (columns of rounding
-    errors, norm below 1e-12 of the largest, zero), at a clear gap."""
+    errors, norm below 1e-12 of the largest, zero), at a clear gap; None where a singular value or a
+    column's norm (relative) lies in (1e-12, 1e-9], where base_parameters' tolerance decides."""
     norms = np.linalg.norm(W, axis=0)
-    norms[norms < 1e-12 * norms.max()] = np.inf
+    relative = norms / norms.max()
+    if np.any((relative > 1e-12) & (relative <= 1e-9)):
+        return None  # a column that barely acts: not acting for base_parameters (its documented rule)
+    norms[relative < 1e-12] = np.inf
     s = np.linalg.svd(W / norms, compute_uv=False)
     s = s / s[0]
     rank = int(np.sum(s > 1e-9))
