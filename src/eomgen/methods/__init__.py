@@ -51,8 +51,8 @@ def derive(system: System, method: str | None = None, quantities=None,
         raise ModelError(f"method {method!r} does not handle the prescribed motion of joint '{moving[0]}' "
                          "(its rate is no column of the Jacobians): use 'lagrange', which differentiates in time")
     timed = [where for where, values in system.fields() if not where.endswith(": motion")
-             and any(t in sp.sympify(v).free_symbols for v in values)]
-    if moving and timed:
+             and any(t in sp.sympify(v).free_symbols for v in values)] if moving else []
+    if timed:
         raise ModelError(f"{timed[0]} depends on the time eg.t, which only a joint's motion may (Lagrange's "
                          "d/dt has no ∂/∂t of other values); with prescribed motion a parameter named 't' is "
                          "the time")

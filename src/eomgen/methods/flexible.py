@@ -7,7 +7,8 @@ A point x of the link is at
 y = Σ N_k(ξ) d_k on each element of length h (ξ = x − x_e, d its nodal deflections and slopes) and
 u_x = −½ ∫₀ˣ y'² ds the foreshortening of the bent beam (with stiffening; else 0). On an element both
 are polynomials in ξ (y of degree 3, u_x of degree 5, its constant the foreshortening of the elements
-before), their coefficients named intermediates, and with A = ṗ, B = d(R e_x)/dt, E = R e_x,
+before, `FlexibleLink.shortening`), their coefficients named intermediates, and with A = ṗ,
+B = d(R e_x)/dt, E = R e_x,
 C = d(R e_y)/dt, D = R e_y,
 
     ṙ = A + B f_x + E ḟ_x + C f_y + D ḟ_y,    T = ½ ∫ m |ṙ|² dx,    U_g = −∫ m g⃗ · r dx,
@@ -34,23 +35,22 @@ def _integral(a: list, b: list, h) -> sp.Expr:
                     if x != 0 and y != 0])
 
 
-def _fields(kin: Kinematics, joint, e: int, h, start) -> tuple[list, list, list, list, sp.Expr]:
-    """(f_x, ḟ_x, f_y, ḟ_y) on element e as coefficients in ξ, and u_x at its end."""
-    sub, c = kin.sub, coefficients(h)
-    d, d_dot = joint.nodes(), joint.nodes(joint.speeds[-len(joint.nodal):])
+def _fields(kin: Kinematics, joint, e: int, c: list, d: list, d_dot: list, start) -> tuple[list, ...]:
+    """(f_x, ḟ_x, f_y, ḟ_y) on element e as coefficients in ξ (c: the shape functions' coefficients; d,
+    ḋ: the nodal values and rates; start: u_x where the element starts)."""
+    sub, h = kin.sub, joint.length / joint.elements
     de, dde = d[2 * e:2 * e + 4], d_dot[2 * e:2 * e + 4]
     y = [sub.add(sp.Add(*[c[k][p] * de[k] for k in range(4)])) for p in range(4)]
     y_dot = [sp.Add(*[c[k][p] * dde[k] for k in range(4)]) for p in range(4)]
     f_x = [e * h, sp.Integer(1)]
     if not joint.stiffening:
-        return f_x, [], y, y_dot, start
+        return f_x, [], y, y_dot
     slope = [(p + 1) * y[p + 1] for p in range(3)]
     square = [sp.Add(*[slope[i] * slope[p - i] for i in range(max(0, p - 2), min(p, 2) + 1)])
               for p in range(5)]  # y'² (degree 4)
     u_x = [start] + [sub.add(-square[p] / (2 * (p + 1))) for p in range(5)]
-    end = sub.add(sp.Add(*[u * h**p for p, u in enumerate(u_x)]))
     u_x_dot = list(kin.time_derivative(sp.Matrix(u_x)))
-    return [f_x[0] + u_x[0], f_x[1] + u_x[1], *u_x[2:]], u_x_dot, y, y_dot, end
+    return [f_x[0] + u_x[0], f_x[1] + u_x[1], *u_x[2:]], u_x_dot, y, y_dot
 
 
 def energies(kin: Kinematics, body) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
@@ -63,20 +63,21 @@ def energies(kin: Kinematics, body) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     vectors = {"A": A, "B": B, "E": E, "C": C, "D": D}
     known = {("B", "E"): 0, ("E", "E"): 1, ("E", "D"): 0, ("C", "D"): 0, ("D", "D"): 1}  # R orthonormal
     names = list(vectors)
-    dots = {(a, b): known.get((a, b), None) for i, a in enumerate(names) for b in names[i:]}
-    dots = {key: sub.add(dot(vectors[key[0]], vectors[key[1]])) if value is None else value
-            for key, value in dots.items()}
+    dots = {(a, b): known[a, b] if (a, b) in known else sub.add(dot(vectors[a], vectors[b]))
+            for i, a in enumerate(names) for b in names[i:]}
     gp, gx, gy = (dot(kin.system.gravity, v) for v in (p, E, D))
-    T, U_g, U_e, u_end = [], [], [], sp.Integer(0)
-    d = joint.nodes()
+    c, K = coefficients(h), integrals(h)["K"]
+    d, d_dot = joint.nodes(), joint.nodes(joint.speeds[-len(joint.nodal):])
+    T, U_g, U_e, start = [], [], [], sp.Integer(0)
     for e in range(joint.elements):
-        f_x, f_x_dot, f_y, f_y_dot, u_end = _fields(kin, joint, e, h, u_end)
+        f_x, f_x_dot, f_y, f_y_dot = _fields(kin, joint, e, c, d, d_dot, start)
+        start = sub.add(start + joint.shortening(e))
         fields = {"A": [sp.Integer(1)], "B": f_x, "E": f_x_dot, "C": f_y, "D": f_y_dot}
         T.append(sub.add(m / 2 * sp.Add(*[(1 if a == b else 2) * w * _integral(fields[a], fields[b], h)
                                           for (a, b), w in dots.items() if w != 0])))
         U_g.append(sub.add(-m * (gp * h + gx * _integral([1], f_x, h) + gy * _integral([1], f_y, h))))
         de = d[2 * e:2 * e + 4]
-        U_e.append(sub.add(joint.EI * quadratic(integrals(h)["K"], de, de) / 2))
+        U_e.append(sub.add(joint.EI * quadratic(K, de, de) / 2))
     return sp.Add(*T), sp.Add(*U_g), sp.Add(*U_e)
 
 

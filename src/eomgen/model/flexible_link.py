@@ -89,13 +89,17 @@ class FlexibleLink(Joint):
         d = a if self.shapes is None else sp.Matrix(self.shapes) * a
         return [sp.Integer(0), sp.Integer(0), *d]
 
-    def foreshortening(self) -> sp.Expr:
-        """u_x(L) = −½ ∫₀ᴸ y'² dx, the tip's axial displacement (0 without stiffening)."""
+    def shortening(self, e: int) -> sp.Expr:
+        """−½ ∫ y'² dx over element e = −½ d_eᵀ G d_e: how much closer to the joint it brings the points
+        beyond it (0 without stiffening)."""
         if not self.stiffening:
             return sp.Integer(0)
-        G, d = integrals(self.length / self.elements)["G"], self.nodes()
-        return -sp.Add(*[quadratic(G, d[2 * e:2 * e + 4], d[2 * e:2 * e + 4])
-                         for e in range(self.elements)]) / 2
+        d = self.nodes()[2 * e:2 * e + 4]
+        return -quadratic(integrals(self.length / self.elements)["G"], d, d) / 2
+
+    def foreshortening(self) -> sp.Expr:
+        """u_x(L), the tip's axial displacement: the elements' `shortening` summed."""
+        return sp.Add(*[self.shortening(e) for e in range(self.elements)])
 
     def tip(self) -> tuple[sp.Matrix, sp.Matrix]:
         """(R, t) of the tip frame in the link frame: turned by the tip slope, at (L + u_x(L), w_tip)."""
