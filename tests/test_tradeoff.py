@@ -40,3 +40,25 @@ def test_trigonometric_simplification_level():
     assert trig.ops < variants["closed forms, nothing shared"].ops and trig.ops < variants["full model (recursive, float64)"].ops
     with pytest.raises(eg.ModelError, match="unknown simplification level 'full'"):
         simplified(eg.derive(system), "full")
+
+
+def test_tradeoff_of_a_flexible_arm_has_its_modes_and_stiffening_rows():
+    """A flexible link (one element) carrying a rigid link: "no stiffening" differs from the full model
+    where the link bends; its modal reductions are exact projections (M, b, g = Tᵀ M T, Tᵀ b, Tᵀ g), one mode
+    changes the accelerations, and both modes are the full model in other coordinates (u̇ equal to
+    round-off); the locked hand's rows are the full model's."""
+    import numpy as np
+
+    arm = eg.System(gravity=(0, -9.81, 0))
+    link = arm.add_body("link", joint=eg.FlexibleLink("q1", length=1.0, mass_per_length=2.0, EI=20.0,
+                                                       elements=1), mass=0)
+    arm.add_body("hand", parent=link, joint=eg.Revolute("q2"), mass=0.5, com=(0.2, 0, 0),
+                 inertia=np.diag([0.001, 0.002, 0.003]).tolist())
+    variants = {v.name: v for v in eg.tradeoff(arm, states=20, levels=(), modes=(1, 2))}
+    assert variants["full model (lagrange, float64)"].errors["ud"][0] < 1e-12
+    assert variants["no stiffening"].errors["ud"][0] > 1e-4
+    errors = [variants[name].errors for name in ("1 mode of each field", "2 modes of each field")]
+    assert max(e[key][0] for e in errors for key in ("M", "b", "g")) < 1e-12
+    assert errors[0]["ud"][0] > 1e-6 > 1e-10 > errors[1]["ud"][0]
+    locked = variants["joints locked: q2"]
+    assert max(locked.errors[k][0] for k in ("M", "b", "g")) < 1e-13 and locked.errors["ud"][0] > 1e-6

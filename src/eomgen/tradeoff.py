@@ -7,18 +7,23 @@ torques). `pareto_plot` draws the error of u̇ against the evaluation time.
 Variants: the simplification level of the code (eomgen's shared intermediates; the closed forms with
 nothing shared; sympy's CSE of them; trigsimp of the closed-form entries then CSE), the derivation
 (projected Newton-Euler), the precision (float32), and approximate models: Coriolis and centrifugal
-terms neglected, light bodies dropped, links as point masses, small inertias neglected, joints locked."""
+terms neglected, light bodies dropped, links as point masses, small inertias neglected, joints locked;
+with flexible links (derived by Lagrange II), their foreshortening dropped ("no stiffening") and their
+modal reduction to the first k modes of each field ("k modes"; compared at states of the modes'
+subspace, q = T q_k, u = T u_k with T = diag(1, Φ), the reduced u̇ as T u̇_k, its M, b, g as Tᵀ M T, Tᵀ b,
+Tᵀ g of the full model)."""
 from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.linalg as sla
 import sympy as sp
 
 from .numeric import codegen
 from .methods import derive
-from .model import Fixed, Prismatic, Revolute, System
+from .model import FlexibleLink, Fixed, Prismatic, Revolute, System
 from .progress import progress
 from .simplification import LEVELS, simplified
 from .state import random_states
@@ -76,25 +81,33 @@ def _numbers(expr) -> float:
 
 def tradeoff(system: System, states: int = 200, seed: int = 0, mass_fraction: float = 0.05,
              inertia_fraction: float = 0.05, lock: dict | None = None, levels=LEVELS,
-             trig_max_ops: int = 300, c: bool = False) -> Variants:
+             trig_max_ops: int = 300, c: bool = False, modes=(1, 2)) -> Variants:
     """Measure the variants of a numeric, fixed- or floating-base `system` (see the module doc).
     `levels`: the simplification levels to include (trigsimp is slow: it gets only the closed-form
     entries of at most `trig_max_ops` operations). `c`: also time each variant compiled from C
-    (batched, best of 3; needs a C compiler, and compiles every variant)."""
-    if lock is None and system.nv > 1 and not system.floating_base:
+    (batched, best of 3; needs a C compiler, and compiles every variant). `modes`: the modal reductions
+    to include where the system has flexible links (those every link allows)."""
+    last = system.joints[-1] if system.joints else None
+    if lock is None and system.nv > 1 and not system.floating_base and len(last.coordinates) == 1:
         lock = {system.joints[-1].name: 0.0}
-    runs = _variants(system, states, seed, mass_fraction, inertia_fraction, lock, levels, trig_max_ops, c)
-    count = 7 + len(levels) + bool(lock)
+    flexible = [j for j in system.joints if isinstance(j, FlexibleLink)]
+    modes = [k for k in modes if flexible and all(k <= j.elements * (1 if "x" in j.fields else 2)
+                                                  for j in flexible)]
+    runs = _variants(system, states, seed, mass_fraction, inertia_fraction, lock, levels, trig_max_ops, c,
+                     modes)
+    stiffened = any(j.stiffening for j in flexible)
+    count = 7 + len(levels) + bool(lock) + (len(modes) + stiffened - 1 if flexible else 0)
     done = progress(runs, "trade-off", total=count, unit="variant")
     return Variants(done, states, acceleration_unit(system))
 
 
-def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, levels, trig_max_ops, with_c):
+def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, levels, trig_max_ops, with_c,
+              modes):
     """The variants of `tradeoff`, one at a time."""
     rng = np.random.default_rng(seed)
     q, u, _ = random_states(system, states, rng)
 
-    def build(s, method="recursive"):
+    def build(s, method=None):
         t0 = time.perf_counter()
         f = codegen(derive(s, method=method))
         return f, time.perf_counter() - t0
@@ -129,17 +142,17 @@ def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, level
     ud0 = np.linalg.solve(M0, -(b0 + g0)[..., None])[..., 0]
     full_c = codegen(full.eom, backend="c") if with_c else None
 
-    def variant(name, f, seconds, M, b, g, us_, c_us, rows=slice(None), ud=None):
+    def variant(name, f, seconds, M, b, g, us_, c_us, rows=slice(None), ud=None, reference=None):
         if ud is None:  # pinv: an approximate model may lose rank (point masses on a joint axis)
             ud = (np.linalg.pinv(M) @ -(b + g)[..., None])[..., 0]
         idx = np.arange(system.nv)[rows]
-        pairs = {"M": (M, M0[:, idx][:, :, idx]), "b": (b, b0[:, idx]), "g": (g, g0[:, idx]),
-                 "ud": (ud, ud0[:, idx])}
+        pairs = dict(zip(("M", "b", "g", "ud"), zip((M, b, g, ud), reference or (
+            M0[:, idx][:, :, idx], b0[:, idx], g0[:, idx], ud0[:, idx]))))
         errors = {k: _relative(x, ref) for k, (x, ref) in pairs.items()}
         absolute = {k: float(np.abs(np.asarray(x) - ref).max()) for k, (x, ref) in pairs.items()}
         return Variant(name, seconds, sum(f.ops[k] for k in ("M", "b", "g")), us_, errors, absolute, c_us)
 
-    yield variant("full model (recursive, float64)", full, t_full, M0, b0, g0, us,
+    yield variant(f"full model ({full.eom.method}, float64)", full, t_full, M0, b0, g0, us,
                   c_timing(full, q, u, compiled=full_c))
     titles = {"closed": "closed forms, nothing shared", "cse": "closed forms + sympy CSE", "trig": "trigsimp"}
     for level in levels:
@@ -152,10 +165,12 @@ def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, level
             done, total = f.eom.extras["trigsimp_entries"]
             title = f"trigsimp ({done}/{total} entries) + CSE"
         yield variant(title, f, seconds, M, b[..., 0], g[..., 0], us_l, c_timing(f, q, u))
-    pne, t_pne = build(system, "projected_newton_euler")
-    (M, b, g), us_pne = timing(pne, q, u)
-    yield variant("projected Newton-Euler code", pne, t_pne, M, b[..., 0], g[..., 0], us_pne,
-                  c_timing(pne, q, u))
+    flexible = [j for j in system.joints if isinstance(j, FlexibleLink)]
+    if not flexible:  # (projected Newton-Euler has no flexible links)
+        pne, t_pne = build(system, "projected_newton_euler")
+        (M, b, g), us_pne = timing(pne, q, u)
+        yield variant("projected Newton-Euler code", pne, t_pne, M, b[..., 0], g[..., 0], us_pne,
+                      c_timing(pne, q, u))
     (M, b, g), us32 = timing(full, q, u, np.float32)
     yield variant("float32", full, t_full, M, b[..., 0], g[..., 0], us32, None)  # C is float64 only
     _, us_no_b = timing(full, q, u, keys=("M", "g"))  # b is not evaluated at all
@@ -173,12 +188,31 @@ def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, level
         f, seconds = build(system.rebuilt(change))
         (M, b, g), us_v = timing(f, q, u)
         yield variant(name, f, seconds, M, b[..., 0], g[..., 0], us_v, c_timing(f, q, u))
+    def links(**choices):
+        return system.rebuilt(lambda b: {"joint": b.joint.changed(**choices)}
+                              if isinstance(b.joint, FlexibleLink) else {})
+    if any(j.stiffening for j in flexible):
+        f, seconds = build(links(stiffening=False))
+        (M, b, g), us_s = timing(f, q, u)
+        yield variant("no stiffening", f, seconds, M, b[..., 0], g[..., 0], us_s, c_timing(f, q, u))
+    for k in modes:
+        f, seconds = build(links(modes=k))
+        T_q, T_v = _modal_map(f.eom.system)
+        q_k, u_k, _ = random_states(f.eom.system, states, np.random.default_rng(seed))
+        (M, b, g), us_k = timing(f, q_k, u_k)
+        (M_f, b_f, g_f), _ = timing(full, q_k @ T_q.T, u_k @ T_v.T)
+        ud = np.linalg.solve(M, -(b + g))[..., 0] @ T_v.T
+        reference = (T_v.T @ M_f @ T_v, (b_f[..., 0] @ T_v), (g_f[..., 0] @ T_v),
+                     np.linalg.solve(M_f, -(b_f + g_f))[..., 0])
+        yield variant(f"{k} mode{'s' * (k > 1)} of each field", f, seconds, M, b[..., 0], g[..., 0], us_k,
+                      c_timing(f, q_k, u_k), ud=ud, reference=reference)
     if lock:
         reduced = system.reduced(lock)
-        keep = [k for k, j in enumerate(system.joints) if j.name not in lock]
-        locked = [k for k, j in enumerate(system.joints) if j.name in lock]
+        owner = [j.name for j in system.joints for _ in j.coordinates]  # (one coordinate a speed here)
+        keep = [k for k, name in enumerate(owner) if name not in lock]
+        locked = [k for k, name in enumerate(owner) if name in lock]
         q_l, u_l = q.copy(), u.copy()
-        q_l[:, locked] = [lock[system.joints[k].name] for k in locked]
+        q_l[:, locked] = [lock[owner[k]] for k in locked]
         u_l[:, locked] = 0.0
         (M0, b0, g0), _ = timing(full, q_l, u_l)  # the reference at the locked states
         b0, g0 = b0[..., 0], g0[..., 0]
@@ -188,6 +222,15 @@ def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, level
         (M, b, g), us_r = timing(f, q_r, u_r)
         yield variant(f"joints locked: {', '.join(lock)}", f, seconds, M, b[..., 0], g[..., 0], us_r,
                       c_timing(f, q_r, u_r), keep)
+
+
+def _modal_map(reduced: System) -> tuple[np.ndarray, np.ndarray]:
+    """(T_q, T_v): q = T_q q_k, u = T_v u_k from a system's modal flexible links to the same links' nodes
+    (per joint: the identity, or diag(1, Φ) for a link's angle and amplitudes)."""
+    blocks = [(np.eye(len(j.coordinates)), np.eye(j.dof)) if not isinstance(j, FlexibleLink) else
+              2 * (sla.block_diag(np.eye(len(j.coordinates) - len(j.nodal)), j.shapes),)
+              for j in reduced.joints]
+    return sla.block_diag(*[q for q, _ in blocks]), sla.block_diag(*[v for _, v in blocks])
 
 
 def pareto_front(points) -> list[int]:

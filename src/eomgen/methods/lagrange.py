@@ -63,7 +63,8 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     U_elastic = []
     for body in system.bodies:
         if isinstance(body.joint, FlexibleLink):
-            T_flex, U_flex, U_el = flexible.energies(kin, body)
+            Omega = angular_velocity_body(kin, body) if body.joint.rotary_inertia is not None else None
+            T_flex, U_flex, U_el = flexible.energies(kin, body, Omega)
             T_parts.append(T_flex)
             U_gravity += U_flex
             U_elastic.append(U_el)

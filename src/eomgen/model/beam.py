@@ -4,7 +4,9 @@ once in the element's own symbols ξ and h (its length) and then given values.
 
 On an element, y(x) = Σ_k N_k(ξ) d_k with ξ = x − x₀ (x₀ where it starts) and d its nodal deflections
 and slopes; the integrals are "NN" = ∫ N_k N_l (mass), "K" = ∫ N_k'' N_l'' (bending), "G" = ∫ N_k' N_l'
-(foreshortening: −½ ∫ y'² = −½ dᵀ G d)."""
+(foreshortening: −½ ∫ y'² = −½ dᵀ G d). The twist φ of a 3D link is linear on an element (its values at
+the two ends): "NN" = ∫ L_k L_l = (h/6)[[2, 1], [1, 2]], "K" = ∫ L_k' L_l' = (1/h)[[1, −1], [−1, 1]]
+(`twist_integrals`)."""
 from __future__ import annotations
 
 from functools import cache
@@ -32,6 +34,11 @@ def _symbolic() -> dict:
     return {"NN": pairs(N, N), "K": pairs(ddN, ddN), "G": pairs(dN, dN)}
 
 
+def twist_integrals(h) -> dict:
+    """The twist's element integrals (module doc) of an element of length h."""
+    return {"NN": [[h / 3, h / 6], [h / 6, h / 3]], "K": [[1 / h, -1 / h], [-1 / h, 1 / h]]}
+
+
 @cache
 def _coefficients() -> list[list[sp.Expr]]:
     N = shape_functions()
@@ -53,6 +60,6 @@ def integrals(h) -> dict:
 
 
 def quadratic(matrix, a, b) -> sp.Expr:
-    """aᵀ matrix b for a 4 × 4 element matrix (lists) and nodal vectors a, b, expanded (modal nodes Φ η:
+    """aᵀ matrix b for an element matrix (lists) and nodal vectors a, b, expanded (modal nodes Φ η:
     a quadratic form in η, k (k + 1)/2 terms, not 16 products of sums)."""
-    return sp.expand(sp.Add(*[matrix[k][l] * a[k] * b[l] for k in range(4) for l in range(4)]))
+    return sp.expand(sp.Add(*[matrix[k][l] * a[k] * b[l] for k in range(len(a)) for l in range(len(b))]))
