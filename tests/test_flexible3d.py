@@ -202,3 +202,79 @@ def test_3d_link_values_are_refused_by_name():
         eg.FlexibleLink("b", **link, elements=2, GJ=1, rotary_inertia=(1, 0, 0), modes=3)
     with pytest.raises(eg.ModelError, match="joint 'b': modes needs a numeric GJ"):
         eg.FlexibleLink("b", **link, GJ=sp.Symbol("GJ"), rotary_inertia=(1, 0, 0), modes=1)
+
+
+def _hermite(xi, h):
+    """Hermite cubics and their first two derivatives at ξ on an element of length h."""
+    s = xi / h
+    N = np.array([1 - 3 * s**2 + 2 * s**3, h * (s - 2 * s**2 + s**3), 3 * s**2 - 2 * s**3, h * (-s**2 + s**3)])
+    dN = np.array([(-6 * s + 6 * s**2) / h, 1 - 4 * s + 3 * s**2, (6 * s - 6 * s**2) / h, -2 * s + 3 * s**2])
+    ddN = np.array([(-6 + 12 * s) / h**2, (-4 + 6 * s) / h, (6 - 12 * s) / h**2, (-2 + 6 * s) / h])
+    return N, dN, ddN
+
+
+def _gauss(a, b):
+    """12-point Gauss-Legendre points and weights on [a, b]."""
+    t, w = np.polynomial.legendre.leggauss(12)
+    return a + (t + 1) * (b - a) / 2, w * (b - a) / 2
+
+
+def test_energies_equal_a_quadrature_of_the_bent_twisted_link():
+    """T and U of a 3D link on a moving parent, at random deflected states, against Gauss quadrature of
+    m |ṙ|²/2 with r = p + R((x + u_x) e_x + y e_y + z e_z), u_x = −½ ∫ (y'² + z'²) (itself by quadrature),
+    ṙ by central differences in time, the sections' ρI_a ω_s,a²/2, ω_s = Ω + (φ̇, −ż', ẏ'), gravity and
+    the strain energy ½ ∫ (E I_z y''² + E I_y z''² + GJ φ'²)."""
+    n, L, m, EI, EI_y, GJ, J = 2, 1.2, 1.5, 3.0, 4.0, 2.0, np.array([0.03, 0.01, 0.02])
+    system = eg.System(gravity=(0, 0, -9.81))
+    base = system.add_body("base", joint=eg.Revolute("q0", axis=(1, 0, 0)), mass=0.5, com=(0.1, 0, 0),
+                           inertia=np.diag([0.01, 0.02, 0.03]).tolist())  # centre on the axis: T = ½ 0.01 q̇0²
+    system.add_body("beam", parent=base, placement=eg.Placement(translation=(0.3, 0.0, 0.1)), mass=0,
+                    joint=eg.FlexibleLink("theta", length=L, mass_per_length=m, EI=EI, elements=n, EI_y=EI_y,
+                                          GJ=GJ, rotary_inertia=tuple(J)))
+    f = eg.codegen(eg.derive(system))
+    h = L / n
+    xi, weights = _gauss(0, h)
+
+    def frame(q):
+        c0, s0, c, s = np.cos(q[0]), np.sin(q[0]), np.cos(q[1]), np.sin(q[1])
+        R0 = np.array([[1, 0, 0], [0, c0, -s0], [0, s0, c0]])
+        return R0 @ np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]), R0 @ [0.3, 0.0, 0.1]
+
+    def link(q):
+        """Per element, at the Gauss points: the world positions, (y', z', φ), and the strain energy."""
+        d = {"y": np.r_[0, 0, q[2:2 + 2 * n]], "z": np.r_[0, 0, q[2 + 2 * n:2 + 4 * n]],
+             "x": np.r_[0, q[2 + 4 * n:]]}
+        R, p = frame(q)
+        positions, turns, strain, start = [], [], 0.0, 0.0
+        for e in range(n):
+            N, dN, ddN = _hermite(xi, h)
+            y, z = (d[a][2 * e:2 * e + 4] for a in "yz")
+
+            def shortening(b):
+                t, w = _gauss(0, b)
+                return -0.5 * np.sum(w * ((y @ _hermite(t, h)[1]) ** 2 + (z @ _hermite(t, h)[1]) ** 2))
+            along = e * h + xi + start + np.array([shortening(b) for b in xi])
+            positions.append(p[:, None] + R @ np.array([along, y @ N, z @ N]))
+            turns.append(np.array([d["x"][e] + (d["x"][e + 1] - d["x"][e]) * xi / h, y @ dN, z @ dN]))
+            strain += np.sum(weights * (EI * (y @ ddN) ** 2 + EI_y * (z @ ddN) ** 2)) / 2
+            strain += GJ * (d["x"][e + 1] - d["x"][e]) ** 2 / h / 2
+            start += shortening(h)
+        return positions, turns, strain
+
+    rng = np.random.default_rng(3)
+    for _ in range(3):
+        q, u, eps = rng.uniform(-1, 1, system.nv), rng.uniform(-2, 2, system.nv), 1e-6
+        q[2:] *= 0.1
+        (r_plus, turn_plus, _), (r_minus, turn_minus, _) = link(q + eps * u), link(q - eps * u)
+        W = frame(q)[0].T @ (frame(q + eps * u)[0] - frame(q - eps * u)[0]) / (2 * eps)
+        Omega = np.array([W[2, 1], W[0, 2], W[1, 0]])
+        T = 0.5 * 0.01 * u[0] ** 2
+        for e in range(n):
+            v = (r_plus[e] - r_minus[e]) / (2 * eps)
+            phi_dot, y_slope_dot, z_slope_dot = (turn_plus[e] - turn_minus[e]) / (2 * eps)
+            omega = Omega[:, None] + np.array([phi_dot, -z_slope_dot, y_slope_dot])
+            T += np.sum(weights * (m * np.sum(v**2, axis=0) + J @ omega**2)) / 2
+        positions, _, strain = link(q)
+        U = sum(np.sum(weights * m * 9.81 * r[2]) for r in positions) + strain
+        assert abs(f.T(q, u) - T) < 1e-7 * max(1.0, abs(T)), (f.T(q, u), T)
+        assert abs(f.U(q) - U) < 1e-10 * max(1.0, abs(U)), (f.U(q), U)
