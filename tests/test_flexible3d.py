@@ -207,7 +207,8 @@ def test_3d_link_values_are_refused_by_name():
 def _hermite(xi, h):
     """Hermite cubics and their first two derivatives at ξ on an element of length h."""
     s = xi / h
-    N = np.array([1 - 3 * s**2 + 2 * s**3, h * (s - 2 * s**2 + s**3), 3 * s**2 - 2 * s**3, h * (-s**2 + s**3)])
+    N = np.array([1 - 3 * s**2 + 2 * s**3, h * (s - 2 * s**2 + s**3), 3 * s**2 - 2 * s**3,
+                  h * (-s**2 + s**3)])
     dN = np.array([(-6 * s + 6 * s**2) / h, 1 - 4 * s + 3 * s**2, (6 * s - 6 * s**2) / h, -2 * s + 3 * s**2])
     ddN = np.array([(-6 + 12 * s) / h**2, (-4 + 6 * s) / h, (6 - 12 * s) / h**2, (-2 + 6 * s) / h])
     return N, dN, ddN
@@ -227,7 +228,7 @@ def test_energies_equal_a_quadrature_of_the_bent_twisted_link():
     n, L, m, EI, EI_y, GJ, J = 2, 1.2, 1.5, 3.0, 4.0, 2.0, np.array([0.03, 0.01, 0.02])
     system = eg.System(gravity=(0, 0, -9.81))
     base = system.add_body("base", joint=eg.Revolute("q0", axis=(1, 0, 0)), mass=0.5, com=(0.1, 0, 0),
-                           inertia=np.diag([0.01, 0.02, 0.03]).tolist())  # centre on the axis: T = ½ 0.01 q̇0²
+                           inertia=np.diag([0.01, 0.02, 0.03]).tolist())  # on the axis: T = ½ 0.01 q̇0²
     system.add_body("beam", parent=base, placement=eg.Placement(translation=(0.3, 0.0, 0.1)), mass=0,
                     joint=eg.FlexibleLink("theta", length=L, mass_per_length=m, EI=EI, elements=n, EI_y=EI_y,
                                           GJ=GJ, rotary_inertia=tuple(J)))
