@@ -157,6 +157,40 @@ def test_a_two_link_flexible_arm_at_zero_deflection_equals_the_rigid_arm(arm):
         np.testing.assert_allclose(f.g(q)[rigid], g, atol=1e-11)
 
 
+def _rotation(axis: int, angle: float) -> np.ndarray:
+    c, s, (j, k) = np.cos(angle), np.sin(angle), [(1, 2), (2, 0), (0, 1)][axis]
+    R = np.eye(3)
+    R[j, j], R[j, k], R[k, j], R[k, k] = c, -s, s, c
+    return R
+
+
+def test_children_sit_on_the_bent_twisted_tip(arm):
+    """The tool's placement at a deflected state: each link's tip at (L + u_x(L), y_L, z_L) in its frame with
+    u_x(L) = −½ ∫ (y'² + z'²) (by quadrature of the Hermite slopes), turned by R_z(y'_L) R_y(−z'_L) R_x(φ_L)."""
+    arm, f = arm
+    rng = np.random.default_rng(5)
+    q = rng.uniform(-1, 1, arm.nv)
+    q[1:11] *= 0.1
+    q[12:17] *= 0.1
+    R, p = np.eye(3), np.zeros(3)
+    links = [(q[0], q[1:5], q[5:9], q[9:11], 1.0, 2, np.eye(3)),
+             (q[11], q[12:14], q[14:16], q[16:17], 0.8, 1, np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]]))]
+    for angle, y, z, phi, L, n, placement in links:
+        R = R @ placement @ _rotation(2, angle)
+        h, shortening = L / n, 0.0
+        y, z = np.r_[0, 0, y], np.r_[0, 0, z]
+        for e in range(n):
+            t, w = _gauss(0, h)
+            dN = _hermite(t, h)[1]
+            shortening -= 0.5 * np.sum(w * ((y[2 * e:2 * e + 4] @ dN) ** 2 + (z[2 * e:2 * e + 4] @ dN) ** 2))
+        p = p + R @ np.array([L + shortening, y[-2], z[-2]])
+        R = R @ _rotation(2, y[-1]) @ _rotation(1, -z[-1]) @ _rotation(0, phi[-1])
+    R = R @ _rotation(0, q[17])
+    R_tool, p_tool = f.placement("tool", q)
+    np.testing.assert_allclose(p_tool, p, atol=1e-13)
+    np.testing.assert_allclose(R_tool, R, atol=1e-13)
+
+
 def test_free_vibration_of_the_3d_arm_conserves_energy(arm):
     """Released bent and twisted under gravity, no damping: T + U stays constant to the integrator's
     tolerance while every field moves."""
