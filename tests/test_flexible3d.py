@@ -166,7 +166,8 @@ def _rotation(axis: int, angle: float) -> np.ndarray:
 
 def test_children_sit_on_the_bent_twisted_tip(arm):
     """The tool's placement at a deflected state: each link's tip at (L + u_x(L), y_L, z_L) in its frame with
-    u_x(L) = −½ ∫ (y'² + z'²) (by quadrature of the Hermite slopes), turned by R_z(y'_L) R_y(−z'_L) R_x(φ_L)."""
+    u_x(L) = −½ ∫ (y'² + z'²) (by quadrature of the Hermite slopes), turned by R_z(y'_L) R_y(−z'_L)
+    R_x(φ_L)."""
     arm, f = arm
     rng = np.random.default_rng(5)
     q = rng.uniform(-1, 1, arm.nv)
