@@ -54,8 +54,8 @@ def _frequencies(f, rows, n, params) -> np.ndarray:
 def test_bending_in_both_planes_and_torsion_equal_the_analytic_frequencies():
     """Clamped-free, m = L = 1, 4 elements: bending ω_k = (β_k L)² √(E I/m) with E I_z = 1 and E I_y = 4
     (the first within 1e-4, the third within 1e-2, as the planar link's); torsion ω_k = (2k − 1)(π/2)
-    √(GJ/ρI_x), whose linear elements give exactly ω_j² = (6 GJ/(ρI_x h²))(1 − cos μ_j)/(2 + cos μ_j), μ_j = (2j − 1)π/(2n) (the discrete shaft's
-    eigenvectors sin(k μ_j))."""
+    √(GJ/ρI_x), whose linear elements give exactly ω_j² = (6 GJ/(ρI_x h²))(1 − cos μ_j)/(2 + cos μ_j),
+    μ_j = (2j − 1)π/(2n) (the discrete shaft's eigenvectors sin(k μ_j))."""
     GJ, Jx, n = 0.5, 0.02, 4
     system = clamped(n, EI_y=4.0, GJ=GJ, rotary_inertia=(Jx, 0, 0))
     f, nv = eg.codegen(eg.derive(system)), system.nv
