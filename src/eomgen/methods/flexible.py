@@ -20,9 +20,15 @@ energy of a motion of the centre line, so M stays positive definite at any defle
 foreshortening gives the geometric stiffness of the axial load, ½ ∫ P(s) (y'² + z'²) ds (for a link
 spinning at Ω, P = m Ω² (L² − s²)/2): the centrifugal and gravitational stiffening (Kane, Ryan and
 Banerjee 1987). The twist φ (linear on an element) and, with `rotary_inertia` (ρI_x, ρI_y, ρI_z), the
-cross-sections' turning: ω_s = Ω + (φ̇, −ż', ẏ') in the link's axes (Ω the link frame's), first order in
-the deformation, T_rot = ½ Σ_a ρI_a ∫ ω_s,a² dx (a Rayleigh beam in bending)."""
+cross-sections' turning: T_rot = ½ Σ_a ρI_a ∫ ω_s,a² dx with ω_s the section's angular velocity in its
+own axes (turned from the link frame by R_z(y') R_y(−z') R_x(φ), as the tip), to second order in the
+deformation (`_section_rates`): a Rayleigh beam in bending, the twist's inertia, and on a spinning link
+the sections' centrifugal and gyroscopic terms (the propeller moment, the flapwise softening). T_rot is
+½ wᵀ J w of a vector w linear in the speeds: M stays positive definite."""
 from __future__ import annotations
+
+from functools import cache
+from itertools import zip_longest
 
 import sympy as sp
 
@@ -30,6 +36,7 @@ from ..kinematics import Kinematics
 from ..linalg import dot
 from ..model import FlexibleLink
 from ..model.beam import coefficients, integrals, quadratic
+from ..model.joints import rotation_about
 
 
 def _integral(a: list, b: list, h) -> sp.Expr:
@@ -75,12 +82,46 @@ def _axial(kin: Kinematics, joint, e: int, fields: dict, start) -> tuple[list, l
     return [e * h + u_x[0], 1 + u_x[1], *u_x[2:]], u_x_dot
 
 
-def _turning(fields: dict, Omega) -> list[sp.Expr]:
-    """The cross-sections' ω_s = Ω + (φ̇, −ż', ẏ') in the link's axes, as coefficients in ξ."""
-    rates = {"x": fields["x"][1] if "x" in fields else [],
-             "y": [-v for v in _slope(fields["z"][1])] if "z" in fields else [],
-             "z": _slope(fields["y"][1])}
-    return [[Omega[i] + (rates[a][0] if rates[a] else 0), *rates[a][1:]] for i, a in enumerate("xyz")]
+_angles = sp.symbols("a b c a_dot b_dot c_dot")  # the section's turn and its rates (placeholders)
+_Omega = sp.symbols("Omega_x Omega_y Omega_z")
+
+
+@cache
+def _section_rates() -> list[sp.Poly]:
+    """ω_s = Dᵀ Ω + ω_D, the angular velocity of a cross-section in its own axes, turned from the link
+    frame by D = R_z(a) R_y(b) R_x(c) (a = y', b = −z', c = φ): ω_D = R_x(c)ᵀ R_y(b)ᵀ ȧ e_z + R_x(c)ᵀ ḃ e_y
+    + ċ e_x; to second order in the turn and its rates (the centrifugal and gyroscopic terms of the
+    sections' inertia: the propeller moment of a spinning twisted link, the flapwise softening), as
+    polynomials in the placeholders."""
+    a, b, c, a_dot, b_dot, c_dot = _angles
+    e = sp.Symbol("e")
+    D = rotation_about(sp.Matrix([0, 0, 1]), a) * rotation_about(sp.Matrix([0, 1, 0]), b) \
+        * rotation_about(sp.Matrix([1, 0, 0]), c)
+    Rx, Ry = rotation_about(sp.Matrix([1, 0, 0]), c), rotation_about(sp.Matrix([0, 1, 0]), b)
+    w = D.T * sp.Matrix(_Omega) + Rx.T * Ry.T * sp.Matrix([0, 0, a_dot]) + Rx.T * sp.Matrix([0, b_dot, 0]) \
+        + sp.Matrix([c_dot, 0, 0])
+    small = {x: e * x for x in _angles}
+    return [sp.Poly(sp.series(x.xreplace(small), e, 0, 3).removeO().subs(e, 1), *_angles) for x in w]
+
+
+def _turning(fields: dict, Omega) -> list[list[sp.Expr]]:
+    """The cross-sections' ω_s (`_section_rates`) as coefficients in ξ, Ω the link frame's angular
+    velocity in its axes."""
+    empty = ([], [])
+    y, z, x = (fields.get(f, empty) for f in ("y", "z", "x"))
+    angles = [_slope(y[0]), [-v for v in _slope(z[0])], x[0], _slope(y[1]), [-v for v in _slope(z[1])], x[1]]
+    values = dict(zip(_Omega, Omega))
+    components = []
+    for w in _section_rates():
+        total: list = []
+        for powers, coefficient in w.terms():
+            term = [coefficient.xreplace(values)]
+            for polynomial, k in zip(angles, powers):
+                for _ in range(k):
+                    term = _product(term, polynomial)
+            total = [sp.Add(*pair) for pair in zip_longest(total, term, fillvalue=0)]
+        components.append(total)
+    return components
 
 
 def _strain(field: str, d: list, e: int, K, h) -> sp.Expr:
