@@ -29,13 +29,11 @@ def cse(exprs: list[sp.Expr], symbols: Iterator[sp.Symbol]) -> tuple[list[tuple[
     atoms: dict[sp.Basic, object] = {}
     memo: dict[sp.Basic, object] = {}
     replacements, reduced = se.cse([_to_symengine(e, memo, atoms) for e in exprs])
-    back = {sp.Symbol(f"_a{k}"): atom for k, atom in enumerate(atoms)}
-    back.update({sp.Symbol(str(x)): next(symbols) for x, _ in replacements})
-
-    def to_sympy(e) -> sp.Expr:
-        return sp.sympify(e).xreplace(back)
-
-    return [(to_sympy(x), to_sympy(e)) for x, e in replacements], [to_sympy(e) for e in reduced]
+    back = {f"_a{k}": atom for k, atom in enumerate(atoms)}
+    back.update({str(x): next(symbols) for x, _ in replacements})
+    memo = {}
+    return ([(back[str(x)], _to_sympy(e, back, memo)) for x, e in replacements],
+            [_to_sympy(e, back, memo) for e in reduced])
 
 
 def _to_symengine(e: sp.Basic, memo: dict, atoms: dict):
@@ -50,5 +48,22 @@ def _to_symengine(e: sp.Basic, memo: dict, atoms: dict):
                else getattr(se, type(e).__name__))(*args)
     else:
         out = se.Symbol(f"_a{atoms.setdefault(e, len(atoms))}")
+    memo[e] = out
+    return out
+
+
+def _to_sympy(e, names: dict[str, sp.Basic], memo: dict) -> sp.Expr:
+    """`e` (symengine) in sympy, a symbol by its name in `names`."""
+    if e in memo:
+        return memo[e]
+    kind = type(e).__name__
+    if kind == "Symbol":
+        out = names[e.name]
+    elif not e.args:  # a number or a constant (e: exp(x) is e**x there)
+        out = sp.sympify(e)
+    else:
+        args = [_to_sympy(a, names, memo) for a in e.args]
+        out = (sp.Add if kind == "Add" else sp.Mul if kind == "Mul" else sp.Pow if kind == "Pow"
+               else getattr(sp, kind))(*args)
     memo[e] = out
     return out

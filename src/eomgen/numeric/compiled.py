@@ -33,7 +33,8 @@ class Compiled:
         if "nle" in keys:  # up front: nle stands for b + g until either is asked for
             keys = [k for k in keys if k not in PARTS]
         elif set(keys) & set(PARTS):
-            keys = keys + [k for k in PARTS if k not in keys and k not in self.functions]
+            keys = keys + [k for k in PARTS if k not in keys and k not in self.functions
+                           and k in self.catalogue]
         if set(keys) & set(DERIVATIVES):  # the derivatives' group last: a composite after its parts
             keys = [k for k in keys if k not in DERIVATIVES] + [k for k in DERIVATIVES
                                                                  if k in self.catalogue.functions]
