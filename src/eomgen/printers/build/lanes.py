@@ -76,7 +76,7 @@ typedef void (*eomgen_vfn)(const vd *, const vd *, const vd *, const vd *, const
 )
 
 # what the module of vector functions hands to the glue (`_attach`): its batched loop and its functions
-HANDOVER = r"""/* the vector functions w<i> (NULL: none) and their batched loop `driver`, opaque to the glue */
+HANDOVER = r"""/* the vector functions w<i> (NULL: none) and their batched loop, opaque to the glue */
 typedef void (*eomgen_any)(void);
 typedef int (*eomgen_driver)(eomgen_any, const int *, int, npy_intp, npy_intp, const double *,
                              const double *, npy_intp, const double *, npy_intp, const double *, double *);
