@@ -13,10 +13,9 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import eomgen as eg
+from eomgen import cse as engines
 from eomgen.cse import cse
 from eomgen.simplification import simplified
-
-pytest.importorskip("symengine")
 
 # atoms with assumptions, a name symengine gives its intermediates, a placeholder's name, floats of
 # more than double precision and π: each must come back as it went in
@@ -58,20 +57,25 @@ def values(replacements, reduced, at: dict) -> list:
 @given(st.lists(trees(4), min_size=1, max_size=4), st.floats(0.1, 2), st.floats(-2, -0.1))
 def test_same_values_as_the_expressions_and_sympy(exprs, xv, yv):
     """At a random point (40 digits), each reduced expression after its definitions equals the expression
-    (the truth) and sympy's cse of it; atoms come back with their assumptions and precision."""
+    (the truth) and sympy's cse of it, with symengine and without; atoms come back with their assumptions
+    and precision."""
     assume(not any(e.has(sp.zoo, sp.nan, sp.oo, -sp.oo) for e in exprs))
     at = {x: sp.Float(xv, 30), y: sp.Float(yv, 30), sp.Symbol("x0"): sp.Float("0.7", 30),
           sp.Symbol("_a0"): sp.Float("-1.3", 30)}
-    replacements, reduced = cse(exprs, sp.numbered_symbols("c", cls=sp.Dummy))
-    assert all(isinstance(e, sp.Basic) for _, e in replacements) and len(reduced) == len(exprs)
     truth = [value(e, at) for e in exprs]
     assume(all(t.is_finite and abs(t) < 1e30 for t in truth))  # away from poles
     reference = values(*sp.cse(exprs, symbols=sp.numbered_symbols("c", cls=sp.Dummy)), at)
-    for got, want, theirs in zip(values(replacements, reduced, at), truth, reference):
-        assert abs(got - want) <= 1e-25 * max(1, abs(want))
-        assert abs(got - theirs) <= 1e-25 * max(1, abs(want))
-    found = set().union(*(e.free_symbols for e in reduced), *(e.free_symbols for _, e in replacements))
-    assert found - {s for s, _ in replacements} <= set().union(*(e.free_symbols for e in exprs))
+    for engine in (engines.se, None):  # symengine (the test extra installs it), and sympy where absent
+        with pytest.MonkeyPatch.context() as monkeypatch:
+            monkeypatch.setattr(engines, "se", engine)
+            replacements, reduced = cse(exprs, sp.numbered_symbols("c", cls=sp.Dummy))
+        assert all(isinstance(e, sp.Basic) for _, e in replacements) and len(reduced) == len(exprs)
+        for got, want, theirs in zip(values(replacements, reduced, at), truth, reference):
+            assert abs(got - want) <= 1e-25 * max(1, abs(want))
+            assert abs(got - theirs) <= 1e-25 * max(1, abs(want))
+        found = set().union(*(e.free_symbols for e in reduced), *(e.free_symbols for _, e in replacements))
+        assert found - {s for s, _ in replacements} <= set().union(*(e.free_symbols for e in exprs))
+    assert engines.se is not None
 
 
 def test_cse_level_on_a_robot_equals_pinocchio():
