@@ -6,7 +6,9 @@ case runs in a fresh process under a memory limit (address space) and a time lim
 up is reported, not the machine. The C numbers are checked against Pinocchio (crba, nonLinearEffects)
 at one state.
 
-Per case also the time per call of M and nle (one state, from Python). With --before REF the same cases
+Per case also the time per call of M and nle (one state, from Python), the seconds of the first call of b
+(first-b: b and g compiled then where the build up front holds nle alone) and the compiler's CPU seconds
+with it (gcc-all). With --before REF the same cases
 run first on the eomgen of git revision REF (its src/ exported to a temp folder), and the table shows
 both; --after REF measures revision REF instead of this working tree; --levels compiles every unit at
 -O1, -O2 and -O3 in turn (compile time and speed by optimisation level).
@@ -107,6 +109,11 @@ def one(case: str, method: str, level: str | None) -> dict:
     }
     f = f.bind({name: 1.0 + 0.01 * k for k, name in enumerate(f.parameters.names)}) if f.params else f
     q, u, _ = eg.random_states(system, 1, np.random.default_rng(0))
+    t3 = time.perf_counter()
+    f.b(q[0], u[0])  # b and g: compiled here where the build up front holds nle alone
+    row["first_b_s"] = time.perf_counter() - t3
+    cpu2 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    row["total_cpu_s"] = row["compiler_cpu_s"] + cpu2.ru_utime + cpu2.ru_stime - cpu1.ru_utime - cpu1.ru_stime
     for key, call in (("M_us", lambda: f.M(q[0])), ("nle_us", lambda: f.nle(q[0], u[0]))):
         row[key] = min(timeit.repeat(call, number=100, repeat=5)) / 100 * 1e6
     if not case.startswith("chain"):
@@ -171,10 +178,11 @@ def export(revision: str, folder: Path) -> Path:
 def text(row: dict) -> str:
     """A case's columns in the table."""
     if "failed" in row:
-        return f"{row['failed'][:44]:>44} {row['peak_mb']:6.0f} {'':12}"
+        return f"{row['failed'][:44]:>44} {row['peak_mb']:6.0f} {'':28}"
     return (
         f"{row['derive_s']:6.1f} {row['print_s']:6.1f} {row['compile_s']:7.1f} {row['total_s']:6.1f} "
-        f"{row['compiler_cpu_s']:7.1f} {row['peak_mb']:6.0f} {row['M_us']:5.1f} {row['nle_us']:6.1f}"
+        f"{row['compiler_cpu_s']:7.1f} {row['peak_mb']:6.0f} {row['M_us']:5.1f} {row['nle_us']:6.1f} "
+        f"{row.get('first_b_s', 0):7.1f} {row.get('total_cpu_s', 0):7.1f}"
     )
 
 
@@ -209,7 +217,7 @@ def main() -> None:
             versions = {"before": (export(args.before, Path(folder) / "before"), ""), **versions}
         if args.levels:
             versions = {level: (after, level) for level in ("-O1", "-O2", "-O3")}
-        columns = "derive  print compile  total gcc-cpu peak-MB  M-us nle-us"
+        columns = "derive  print compile  total gcc-cpu peak-MB  M-us nle-us first-b gcc-all"
         print(f"{'case':22} {'method':8} " + "  |  ".join(f"{v}: {columns}" for v in versions) + "   load")
         for case, method in cases:
             found = {

@@ -113,6 +113,32 @@ def test_extension_inputs_parameters_and_frames(tmp_path, monkeypatch):
             fn.M(bad, params)
 
 
+def test_b_and_g_compiled_on_first_use(tmp_path, monkeypatch):
+    """The build up front compiles M and nle only (b and g are nle's two parts, 40 % of the C text); the
+    first request of b or g compiles both in one more module; each equals Pinocchio."""
+    import pinocchio as pin
+
+    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
+    system = eg.robots.load("ur5")
+    f = eg.codegen(eg.derive(system, method="recursive"), backend="c")
+
+    def modules() -> dict:
+        return {key: fn.function.__self__.__name__ for key, fn in f.functions.items()}
+
+    assert set(modules()) == {"M", "nle"} and len(set(modules().values())) == 1
+    model = system.pinocchio_model
+    data = model.createData()
+    q, u, _ = eg.random_states(system, 3, np.random.default_rng(4))
+    for qk, uk, qp in zip(q, u, pinocchio_configuration(system, q)):  # one state at a time: no batch module
+        g = pin.computeGeneralizedGravity(model, data, qp)
+        close(f.g(qk), g, 1e-12, "g")
+        close(f.b(qk, uk), pin.nonLinearEffects(model, data, qp, uk) - g, 1e-12, "b")
+        close(f.nle(qk, uk), pin.nonLinearEffects(model, data, qp, uk), 1e-12, "nle")
+        close(f.M(qk), pin.crba(model, data, qp), 1e-12, "M")
+    up_front, later = modules()["M"], modules()["b"]
+    assert modules() == {"M": up_front, "nle": up_front, "b": later, "g": later} and later != up_front
+
+
 def test_extension_is_cached(tmp_path, monkeypatch):
     monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
     eom = eg.derive(eg.robots.load("double_pendulum"), method="recursive")

@@ -17,7 +17,7 @@ def test_tradeoff_ur5(tmp_path):
     locked = variants["joints locked"]
     assert max(locked.errors[k][0] for k in ("M", "b", "g")) < 1e-13 and locked.errors["ud"][0] > 1e-6
     assert variants["links as point masses"].errors["M"][0] > 1e-3
-    closed, cse = variants["closed forms, nothing shared"], variants["closed forms + sympy CSE"]
+    closed, cse = variants["closed forms, nothing shared"], variants["closed forms + CSE"]
     assert max(max(v.errors[k][0] for k in ("M", "b", "g")) for v in (closed, cse)) < 1e-13  # exact rewrites
     assert closed.ops > 50 * full.ops and full.ops < cse.ops < 2 * full.ops
     png, table = tmp_path / "pareto.png", tmp_path / "table.json"

@@ -1,7 +1,7 @@
 """Simplification levels of the same equations, to measure what each buys (see `tradeoff`):
 
     "closed"  the closed forms of M, b, g with nothing shared (every intermediate inlined)
-    "cse"     the closed forms through sympy's common-subexpression elimination
+    "cse"     the closed forms through common-subexpression elimination (symengine's where installed, `cse`)
     "trig"    each closed-form entry of at most `max_ops` operations through sympy's trigsimp, then CSE
 
 eomgen's derivations already write named, shared intermediates (the default level, no call needed);
@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from .cse import cse
 from .eom import EquationsOfMotion
 from .errors import ModelError
 from .kinematics import Kinematics
@@ -34,7 +35,7 @@ def simplified(eom: EquationsOfMotion, level: str, max_ops: int = 3000) -> Equat
     kin = Kinematics(eom.system)  # a fresh set of intermediates
     if level != "closed":
         keys = list(closed)
-        replacements, reduced = sp.cse([e for k in keys for e in closed[k]], symbols=sp.numbered_symbols(cls=sp.Dummy))
+        replacements, reduced = cse([e for k in keys for e in closed[k]], sp.numbered_symbols(cls=sp.Dummy))
         names: dict = {}
         for x, e in replacements:
             names[x] = kin.sub.add(e.xreplace(names))

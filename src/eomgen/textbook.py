@@ -10,6 +10,7 @@ left as they are; the document shows them in the shared form (see `shared`)."""
 
 from __future__ import annotations
 
+import itertools
 import time
 
 import sympy as sp
@@ -19,6 +20,7 @@ from sympy.polys.polyerrors import CoercionFailed, PolynomialError
 from sympy.polys.rings import ring
 from sympy.simplify.fu import TR10i
 
+from .cse import cse
 from .progress import progress
 from .symbols import Generated
 
@@ -135,5 +137,6 @@ def chi(k: int) -> Generated:
 
 def shared(exprs: list[sp.Matrix]) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.Matrix]]:
     """The matrices through common subexpressions χ_k (defined in the order returned)."""
-    replacements, reduced = sp.cse(list(exprs), symbols=(chi(k) for k in range(10**9)))
-    return replacements, [sp.Matrix(r) for r in reduced]
+    replacements, flat = cse([e for M in exprs for e in M], (chi(k) for k in itertools.count()))
+    entries = iter(flat)
+    return replacements, [sp.Matrix(M.rows, M.cols, [next(entries) for _ in M]) for M in exprs]

@@ -154,7 +154,7 @@ def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, level
 
     yield variant(f"full model ({full.eom.method}, float64)", full, t_full, M0, b0, g0, us,
                   c_timing(full, q, u, compiled=full_c))
-    titles = {"closed": "closed forms, nothing shared", "cse": "closed forms + sympy CSE", "trig": "trigsimp"}
+    titles = {"closed": "closed forms, nothing shared", "cse": "closed forms + CSE", "trig": "trigsimp"}
     for level in levels:
         t0 = time.perf_counter()
         f = codegen(simplified(full.eom, level, trig_max_ops))

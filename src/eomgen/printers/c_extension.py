@@ -17,7 +17,7 @@ from .build.extension import build, compile_module, compiled
 from .ffi import handlers
 from .forward_c import forward_derivatives_source
 from .syntax import C_TRIG
-from .vector import C_VECTOR, TYPES, lanes_source, vector_sources
+from .vector import C_VECTOR, lanes_source, vector_sources
 from .walker import Generated, writer
 
 
@@ -89,5 +89,7 @@ def extension_functions(written: list, nq: int, nv: int, n_params: int,
 
 def lanes_module(sources: list[str | None], nq: int, nv: int, n_params: int):
     """The module of the vector functions `sources` (`vector.lanes_source`)."""
-    return compiled((TYPES, sources, nq, nv, n_params),
-                    lambda name, target: compile_module(lanes_source(name, sources), [], target))
+    def source(name: str) -> str:
+        return lanes_source(name, sources, nq, nv, n_params)
+
+    return compiled(source(""), lambda name, target: compile_module(source(name), [], target))

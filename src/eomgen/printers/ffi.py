@@ -84,7 +84,7 @@ static int run(eomgen_fn f, int i, const int *idx, int nt, int64_t size, XLA_FFI
         in[k] = count[k] == 1 && k > 0 ? x[k]->data : rows_of(x[k], L, lead, n, widths[k], &copies[k]);
     int failed = in[0] == NULL || in[1] == NULL || in[2] == NULL || in[3] == NULL;
     int64_t su = count[1] == 1 ? 0 : NV, sud = count[2] == 1 ? 0 : NV;
-    eomgen_vfn v = count[3] == 1 && n > 1 ? lanes[i] : NULL;  /* W states at a time, every entry written */
+    eomgen_any v = count[3] == 1 && n > 1 ? lanes[i] : NULL;  /* W states at a time, every entry written */
     if (!failed && !v)
         memset(out, 0, sizeof(double) * (size_t)(n * size));
     if (failed)

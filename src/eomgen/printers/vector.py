@@ -9,8 +9,8 @@ outputs back through an aligned stage (`scatter`, `put`; non-temporal stores pas
 
 The vector functions are a module of their own (`lanes_source`), printed and compiled on the first batch
 (twice the C of the per-state functions to compile: a build that never batches does not pay for it),
-which hands the table of its functions to the module of the per-state functions (`DRIVER` there calls
-them; `build.lanes`)."""
+with `DRIVER`, which it hands with the table of its functions to the module of the per-state functions
+(`build.lanes.HANDOVER`)."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from dataclasses import replace
 import sympy as sp
 
 from ..subexpressions import Subexpressions
-from .build.lanes import TYPES
+from .build.lanes import DRIVER, HANDOVER, TYPES, sizes
 from .syntax import C_FUNCTIONS, C_TRIG
 from .walker import FunctionWriter
 
@@ -40,19 +40,24 @@ C_VECTOR = replace(
 )
 
 
-def lanes_source(name: str, sources: list[str | None]) -> str:
+def lanes_source(name: str, sources: list[str | None], nq: int, nv: int, n_params: int) -> str:
     """The extension module `name` of the vector functions `w<i>` (None: none for function i), whose
-    attribute `lanes` holds their table for the module of the per-state functions (`extension`)."""
-    table = ", ".join(f"w{i}" if source else "NULL" for i, source in enumerate(sources))
+    attribute `lanes` hands them and their batched loop to the module of the per-state functions
+    (`extension`)."""
+    table = ", ".join(f"(eomgen_any)w{i}" if source else "NULL" for i, source in enumerate(sources))
     return "\n".join(
         [
-            "#define PY_SSIZE_T_CLEAN\n#include <Python.h>\n#include <math.h>\n#include <string.h>",
+            "#define PY_SSIZE_T_CLEAN\n#include <Python.h>\n#include <numpy/npy_common.h>\n#include <math.h>",
+            "#include <stdint.h>\n#include <stdlib.h>\n#include <string.h>",
+            sizes(nq, nv, n_params, len(sources)),
             TYPES,
+            HANDOVER,
+            DRIVER,
             *(source for source in sources if source),
-            f"static eomgen_vfn table[] = {{{table}}};",
+            f"static eomgen_lanes table = {{driver, {{{table}}}}};",
             f'static struct PyModuleDef module = {{PyModuleDef_HEAD_INIT, "{name}", NULL, -1, NULL}};',
             f"PyMODINIT_FUNC PyInit_{name}(void)\n{{\n    PyObject *m = PyModule_Create(&module);",
-            '    PyObject *c = m ? PyCapsule_New(table, "eomgen.lanes", NULL) : NULL;',
+            '    PyObject *c = m ? PyCapsule_New(&table, "eomgen.lanes", NULL) : NULL;',
             '    if (m != NULL && (c == NULL || PyModule_AddObject(m, "lanes", c) < 0)) {',
             "        Py_XDECREF(c);\n        Py_CLEAR(m);\n    }\n    return m;\n}\n",
         ]

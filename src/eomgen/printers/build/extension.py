@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import ModelError
-from .lanes import DRIVER, TYPES, machine
+from .lanes import HANDOVER, machine, sizes
 from .compile import COMPILE, Unit, build_library, optimisation, translation_units
 
 # batches over the cores with vector sin and cos; else one core, scalar sin and cos
@@ -219,16 +219,18 @@ static int overlap(PyArrayObject *x, PyArrayObject *y)
     return a < b + PyArray_NBYTES(y) && b < a + PyArray_NBYTES(x);
 }
 
-static eomgen_vfn lanes[NF];  /* the vector functions, once their module is attached */
+static eomgen_any lanes[NF];  /* the vector functions, once their module is attached */
+static eomgen_driver batch_vector;  /* and their batched loop */
 static PyObject *hook;  /* called on the first batch: builds and attaches them */
 
-/* lanes[] from the capsule of the module of vector functions (`vector.lanes_source`) */
+/* lanes[] and batch_vector from the capsule of the module of vector functions (`vector.lanes_source`) */
 static PyObject *attach(PyObject *self, PyObject *capsule)
 {
-    eomgen_vfn *table = PyCapsule_GetPointer(capsule, "eomgen.lanes");
-    if (table == NULL)
+    eomgen_lanes *handed = PyCapsule_GetPointer(capsule, "eomgen.lanes");
+    if (handed == NULL)
         return NULL;
-    memcpy(lanes, table, sizeof lanes);
+    memcpy(lanes, handed->table, sizeof lanes);
+    batch_vector = handed->driver;
     Py_RETURN_NONE;
 }
 
@@ -276,7 +278,7 @@ static PyObject *evaluate(eomgen_fn f, int i, const int *idx, int nt, npy_intp r
     }
     if (nd == 2 && run_hook() < 0)  /* the first batch */
         goto done;
-    eomgen_vfn v = nd == 2 ? lanes[i] : NULL;  /* W states at a time, every entry written */
+    eomgen_any v = nd == 2 ? lanes[i] : NULL;  /* W states at a time, every entry written */
     npy_intp dims[3] = {n, rows, cols}, *shape = nd == 2 ? dims : dims + 1;
     if (nargs == 5 && args[4] != Py_None) {
         result = output(args[4], nd + 1 - vector, shape);
@@ -379,8 +381,7 @@ def module_source(name: str, functions: list[tuple[str, tuple, list[int]]], nq: 
     """The extension module `name`: the functions (C text of `e<i>`, output shape, the k of the sin(q[k])
     and cos(q[k]) it reads) and their wrappers; `_attach` and `_hook` take the vector functions
     (`vector`); `extra`: more glue after the functions and its entries in the method table."""
-    sizes = f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n#define NF {len(functions)}\n"
-    parts = [sizes, PRELUDE, TYPES, DRIVER, EVALUATE]
+    parts = [sizes(nq, nv, n_params, len(functions)), PRELUDE, HANDOVER, EVALUATE]
     table = ['    {"_attach", attach, METH_O, NULL},', '    {"_hook", set_hook, METH_O, NULL},']
     for i, (source, (rows, cols), trig) in enumerate(functions):
         parts.append(source)  # static functions (`numpy_backend.C_TRIG`)
@@ -461,7 +462,7 @@ def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_par
         entries = [(header if i == 0 else "", shape, trig) for i, (shape, trig) in enumerate(shapes)]
         compile_module(module_source(name, entries, nq, nv, n_params, extra), units, target, include)
 
-    content = (PRELUDE, TYPES, DRIVER, EVALUATE, header, layout, shapes, nq, nv, n_params)
+    content = (PRELUDE, HANDOVER, EVALUATE, header, layout, shapes, nq, nv, n_params)
     content += (extra, include) if include else ()
     return compiled(content, make)
 

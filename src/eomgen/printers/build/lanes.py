@@ -1,9 +1,10 @@
-"""The C every vector batch needs, in the extension's glue and in the module of vector functions: the
-vector type `vd` of W doubles (8 with AVX-512, 4 with AVX, else 2) and the functions lane by lane
-(`TYPES`), and the batched loop (`DRIVER`) that transposes the states in W x W tiles (`gather`), calls
-a vector function and writes the outputs back through an aligned stage (`scatter`, `put`; non-temporal
-stores past 16 MB). Both are built for the machine they run on (-march=native): the cache key holds
-`machine()`."""
+"""The C every vector batch needs, in the module of vector functions: the vector type `vd` of W doubles
+(8 with AVX-512, 4 with AVX, else 2) and the functions lane by lane (`TYPES`), and the batched loop
+(`DRIVER`) that transposes the states in W x W tiles (`gather`), calls a vector function and writes the
+outputs back through an aligned stage (`scatter`, `put`; non-temporal stores past 16 MB). That module
+hands its loop and functions to the extension's glue (`HANDOVER`), which so compiles none of it up front
+(the intrinsics' headers alone were half the glue's compile time). Both are built for the machine they
+run on (-march=native): the cache key holds `machine()`."""
 from __future__ import annotations
 
 import platform
@@ -74,7 +75,15 @@ typedef void (*eomgen_vfn)(const vd *, const vd *, const vd *, const vd *, const
 """
 )
 
-# the batched loop of the module of the per-state functions, which calls the vector functions
+# what the module of vector functions hands to the glue (`_attach`): its batched loop and its functions
+HANDOVER = r"""/* the vector functions w<i> (NULL: none) and their batched loop, opaque to the glue */
+typedef void (*eomgen_any)(void);
+typedef int (*eomgen_driver)(eomgen_any, const int *, int, npy_intp, npy_intp, const double *,
+                             const double *, npy_intp, const double *, npy_intp, const double *, double *);
+typedef struct { eomgen_driver driver; eomgen_any table[NF]; } eomgen_lanes;
+"""
+
+# the batched loop of the module of vector functions (`driver`: for a function handed over)
 DRIVER = transpose() + r"""
 
 /* sin and cos of x: x - n π/2 (π/2 in three parts, each product exact for |n| < 2^20) into [-π/4, π/4],
@@ -253,7 +262,18 @@ static int batch_vector(eomgen_vfn f, const int *idx, int nt, npy_intp size, npy
     }
     return failed ? -1 : 0;
 }
+
+static int driver(eomgen_any f, const int *idx, int nt, npy_intp size, npy_intp n, const double *q,
+                  const double *u, npy_intp su, const double *ud, npy_intp sud, const double *p, double *out)
+{
+    return batch_vector((eomgen_vfn)f, idx, nt, size, n, q, u, su, ud, sud, p, out);
+}
 """
+
+
+def sizes(nq: int, nv: int, n_params: int, count: int) -> str:
+    """The C macros of a module's sizes: coordinates NQ, speeds NV, parameters NP, functions NF."""
+    return f"#define NQ {nq}\n#define NV {nv}\n#define NP {n_params}\n#define NF {count}\n"
 
 
 @cache
