@@ -92,7 +92,8 @@ class FlexibleLink(Joint):
 
     def _section(self, values) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
         """(ρI_x, ρI_y, ρI_z), each a scalar ≥ 0."""
-        if isinstance(values, (str, bytes)) or not hasattr(values, "__len__") or len(values) != 3:
+        not_a_sequence = isinstance(values, (str, bytes, set, frozenset, dict))  # (a set has no order)
+        if not_a_sequence or not hasattr(values, "__len__") or len(values) != 3:
             raise ModelError(f"joint '{self.name}': rotary_inertia must be three values (ρI_x, ρI_y, ρI_z), "
                              f"got {values!r}")
         section = tuple(scalar(v, f"joint '{self.name}': rotary_inertia") for v in values)
