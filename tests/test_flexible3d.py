@@ -81,16 +81,7 @@ def test_flapwise_frequencies_of_a_spinning_3d_link_equal_the_published_values()
     f, nv = eg.codegen(eg.derive(system)), system.nv
     z = list(range(2 * n, 4 * n))
     for gamma, published in zip(range(5), PUBLISHED):
-        params, h, k = {"W": float(gamma), "t": 0.0}, 1e-6, len(z)
-
-        def force(x):
-            q = np.zeros(nv)
-            q[z] = x
-            rest = np.zeros(nv)
-            return (f.nle(q, rest, params=params) - f.tau_of("elastic", q, rest, params=params))[z]
-        K = np.column_stack([(force(h * e) - force(-h * e)) / (2 * h) for e in np.eye(k)])
-        M = f.M(np.zeros(nv), params=params)[np.ix_(z, z)]
-        first = np.sqrt(sla.eigh((K + K.T) / 2, M, eigvals_only=True).min())
+        first = _linearized(f, z, nv, {"W": float(gamma), "t": 0.0})[0]
         assert abs(first / published - 1) < 2e-4, (gamma, first)
 
 
@@ -325,3 +316,75 @@ def test_energies_equal_a_quadrature_of_the_bent_twisted_link():
             gaps.append(abs(f.T(q_s, u_s) - T - T_turn))
             assert abs(f.U(q_s) - U) < 1e-10 * max(1.0, abs(U)), (f.U(q_s), U)
         assert gaps[0] < 1e-2 * T_turn and 5.5 < gaps[0] / gaps[1] < 11, gaps  # third order
+
+
+def _stiffness(f, rows, nv, params):
+    h = 1e-6
+
+    def force(x):
+        q = np.zeros(nv)
+        q[rows] = x
+        rest = np.zeros(nv)
+        return (f.nle(q, rest, params=params) - f.tau_of("elastic", q, rest, params=params))[rows]
+    return np.column_stack([(force(h * e) - force(-h * e)) / (2 * h) for e in np.eye(len(rows))])
+
+
+def _linearized(f, rows, nv, params):
+    """Frequencies of the rows about the straight link: K from (nle − τ_elastic), M at rest."""
+    K = _stiffness(f, rows, nv, params)
+    M = f.M(np.zeros(nv), params=params)[np.ix_(rows, rows)]
+    return np.sqrt(np.sort(sla.eigh((K + K.T) / 2, M, eigvals_only=True)))
+
+
+def test_twist_of_a_spinning_link_feels_the_propeller_moment():
+    """A link spinning at Ω about its joint's z axis, twisted by φ: its sections turn at
+    (φ̇, Ω sin φ, Ω cos φ) in their own axes, T_rot = ½ ∫ (ρI_x φ̇² + ρI_y Ω² sin²φ + ρI_z Ω² cos²φ), so
+    ρI_x φ̈ − GJ φ'' + (ρI_z − ρI_y) Ω² φ = 0 (the propeller moment of a spinning blade). On the linear
+    elements (mass and this stiffness share ∫ L_k L_l) every twist frequency shifts exactly:
+    ω² = ω₀² + Ω² (ρI_z − ρI_y)/ρI_x. A thin blade (ρI_y ≈ 0, ρI_z ≈ ρI_x): ω² = ω₀² + Ω²."""
+    W, n = sp.Symbol("W"), 3
+    Jx, Jy, Jz = 0.02, 0.001, 0.019
+    system = clamped(n, stiffening=True, motion=W * eg.t, GJ=0.5, rotary_inertia=(Jx, Jy, Jz))
+    f, nv = eg.codegen(eg.derive(system)), system.nv
+    twist = list(range(2 * n, 3 * n))
+    w0 = _linearized(f, twist, nv, {"W": 0.0, "t": 0.0})
+    Omega = 4.0
+    w = _linearized(f, twist, nv, {"W": Omega, "t": 0.0})
+    np.testing.assert_allclose(w**2 - w0**2, Omega**2 * (Jz - Jy) / Jx, rtol=1e-4)
+
+
+def test_flapwise_bending_of_a_spinning_link_feels_the_sections_inertia():
+    """Spinning at Ω about the joint's z axis, a section tilted by the flapwise slope z' (R_y(−z')) turns at
+    (Ω sin z', −ż', Ω cos z') in its own axes: T_rot holds ½ (ρI_x − ρI_z) Ω² z'², a stiffness
+    −(ρI_x − ρI_z) Ω² ∫ z'² (the rotary-inertia softening of a rotating Rayleigh beam). So raising ρI_x
+    by a changes the linearized flapwise stiffness by exactly −a Ω² G, G = Σ_e ∫ N' N'ᵀ (Hermite,
+    assembled here by Gauss quadrature)."""
+    W, n, a, Omega = sp.Symbol("W"), 2, 0.01, 3.0
+    K = []
+    for Jx in (0.0, a):
+        system = clamped(n, stiffening=True, motion=W * eg.t, EI_y=1, rotary_inertia=(Jx, 0, 0))
+        f = eg.codegen(eg.derive(system))
+        K.append(_stiffness(f, list(range(2 * n, 4 * n)), system.nv, {"W": Omega, "t": 0.0}))
+    h = 1 / n
+    x, w = np.polynomial.legendre.leggauss(4)
+    x, w = (x + 1) * h / 2, w * h / 2
+    s = x / h
+    dN = np.array([(-6 * s + 6 * s**2) / h, 1 - 4 * s + 3 * s**2, (6 * s - 6 * s**2) / h, -2 * s + 3 * s**2])
+    G = np.zeros((2 * n + 2, 2 * n + 2))
+    for e in range(n):
+        G[2 * e:2 * e + 4, 2 * e:2 * e + 4] += (dN * w) @ dN.T
+    np.testing.assert_allclose(K[1] - K[0], -a * Omega**2 * G[2:, 2:], atol=1e-6)
+
+
+def _rest_frequencies(system):
+    f, nv = eg.codegen(eg.derive(system)), system.nv
+    return _frequencies(f, list(range(nv)), nv, {})
+
+
+def test_modes_of_a_link_with_rotary_inertia_keep_the_full_models_first_frequencies():
+    """With rotary inertia (a Rayleigh beam) the nodal mass is m ∫NNᵀ + ρI_z ∫N'N'ᵀ: the modes are those of
+    that mass, so a stubby link (ρI_z = 0.01 m L²) reduced to 2 modes keeps its first 2 frequencies."""
+    values = dict(elements=4, rotary_inertia=(0, 0, 0.01))
+    full = _rest_frequencies(clamped(**values))
+    reduced = _rest_frequencies(clamped(modes=2, **values))
+    np.testing.assert_allclose(reduced, full[:2], rtol=1e-9)

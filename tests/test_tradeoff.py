@@ -62,3 +62,23 @@ def test_tradeoff_of_a_flexible_arm_has_its_modes_and_stiffening_rows():
     assert errors[0]["ud"][0] > 1e-6 > 1e-10 > errors[1]["ud"][0]
     locked = variants["joints locked: q2"]
     assert max(locked.errors[k][0] for k in ("M", "b", "g")) < 1e-13 and locked.errors["ud"][0] > 1e-6
+
+
+def test_tradeoff_locks_a_joint_of_a_floating_robot_and_keeps_a_modal_link():
+    """A free-flying base (7 coordinates, 6 speeds) with a locked arm joint: the locked row indexes q and u
+    apart, its M, b, g rows equal the full model's; a link already modal gets no further modal rows."""
+    import numpy as np
+
+    s = eg.System(gravity=(0, 0, -9.81))
+    base = s.add_body("base", joint=eg.FreeFlyer("base"), mass=2.0, inertia=np.diag([0.1, 0.2, 0.3]).tolist())
+    a = s.add_body("a", parent=base, joint=eg.Revolute("qa"), mass=1.0, com=(0.3, 0, 0),
+                   inertia=np.diag([0.01, 0.02, 0.03]).tolist())
+    s.add_body("b", parent=a, joint=eg.Revolute("qb", axis=(0, 1, 0)), mass=0.5, com=(0.2, 0, 0.1),
+               inertia=np.diag([0.01, 0.02, 0.03]).tolist(), placement=eg.Placement(translation=(0.5, 0, 0)))
+    locked = {v.name: v for v in eg.tradeoff(s, states=5, levels=(), lock={"qa": 0.3})}["joints locked: qa"]
+    assert max(locked.errors[k][0] for k in ("M", "b", "g")) < 1e-13 and locked.errors["ud"][0] > 1e-6
+    modal = eg.System(gravity=(0, -9.81, 0))
+    modal.add_body("link", joint=eg.FlexibleLink("q1", length=1.0, mass_per_length=2.0, EI=20.0, elements=1,
+                                                  modes=1), mass=0)
+    names = [v.name for v in eg.tradeoff(modal, states=5, levels=(), modes=(1, 2))]
+    assert "no stiffening" in names and not any(name.endswith("of each field") for name in names)

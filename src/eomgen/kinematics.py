@@ -111,7 +111,8 @@ class Kinematics:
         (which move it through the tip) are not formed (J u and J̇ u would miss the bending)."""
         if body in self.on_tip:
             raise ModelError(f"body '{body.name}' sits beyond flexible link '{self.on_tip[body]}': its "
-                             "Jacobians (J, J̇ u, contact rows) are not formed; the equations of motion are")
+                             "Jacobians (J, J̇ u, contact rows) are not formed (its placement and the "
+                             "equations of motion are)")
 
     def J_P(self, point: Point) -> sp.Matrix:
         """Translational Jacobian of a point: column i is Σ v_k + ω_k × (r − p_k) over the joints k

@@ -86,12 +86,14 @@ def tradeoff(system: System, states: int = 200, seed: int = 0, mass_fraction: fl
     `levels`: the simplification levels to include (trigsimp is slow: it gets only the closed-form
     entries of at most `trig_max_ops` operations). `c`: also time each variant compiled from C
     (batched, best of 3; needs a C compiler, and compiles every variant). `modes`: the modal reductions
-    to include where the system has flexible links (those every link allows)."""
+    to include where the system has flexible links (those every link allows; none where a link is modal
+    already)."""
     last = system.joints[-1] if system.joints else None
     if lock is None and system.nv > 1 and not system.floating_base and len(last.coordinates) == 1:
         lock = {system.joints[-1].name: 0.0}
     flexible = [j for j in system.joints if isinstance(j, FlexibleLink)]
-    modes = [k for k in modes if flexible and all(k <= j.elements * (1 if "x" in j.fields else 2)
+    modes = [k for k in modes if flexible and all(j.shapes is None and  # (a modal link: no further rows)
+                                                  k <= j.elements * (1 if "x" in j.fields else 2)
                                                   for j in flexible)]
     runs = _variants(system, states, seed, mass_fraction, inertia_fraction, lock, levels, trig_max_ops, c,
                      modes)
@@ -208,20 +210,21 @@ def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, level
                       c_timing(f, q_k, u_k), ud=ud, reference=reference)
     if lock:
         reduced = system.reduced(lock)
-        owner = [j.name for j in system.joints for _ in j.coordinates]  # (one coordinate a speed here)
-        keep = [k for k, name in enumerate(owner) if name not in lock]
-        locked = [k for k, name in enumerate(owner) if name in lock]
+        owner = {x: [j.name for j in system.joints for _ in getattr(j, f)] for x, f in
+                 (("q", "coordinates"), ("u", "speeds"))}  # a locked joint: one coordinate, one speed
+        keep = {x: [k for k, name in enumerate(names) if name not in lock] for x, names in owner.items()}
+        locked = {x: [k for k, name in enumerate(names) if name in lock] for x, names in owner.items()}
         q_l, u_l = q.copy(), u.copy()
-        q_l[:, locked] = [lock[owner[k]] for k in locked]
-        u_l[:, locked] = 0.0
+        q_l[:, locked["q"]] = [lock[owner["q"][k]] for k in locked["q"]]
+        u_l[:, locked["u"]] = 0.0
         (M0, b0, g0), _ = timing(full, q_l, u_l)  # the reference at the locked states
         b0, g0 = b0[..., 0], g0[..., 0]
         ud0 = np.linalg.solve(M0, -(b0 + g0)[..., None])[..., 0]
         f, seconds = build(reduced)
-        q_r, u_r = np.ascontiguousarray(q_l[:, keep]), np.ascontiguousarray(u_l[:, keep])
+        q_r, u_r = np.ascontiguousarray(q_l[:, keep["q"]]), np.ascontiguousarray(u_l[:, keep["u"]])
         (M, b, g), us_r = timing(f, q_r, u_r)
         yield variant(f"joints locked: {', '.join(lock)}", f, seconds, M, b[..., 0], g[..., 0], us_r,
-                      c_timing(f, q_r, u_r), keep)
+                      c_timing(f, q_r, u_r), keep["u"])
 
 
 def _modal_map(reduced: System) -> tuple[np.ndarray, np.ndarray]:

@@ -165,6 +165,8 @@ def families(eom: EquationsOfMotion, missing: dict) -> list[Family]:
     reaction."""
     system, kin, nv = eom.system, eom.kinematics, len(eom.u)
     frames = tuple([b.name for b in system.bodies if b.index is not None] + list(system.frames))
+    beyond = {b.name for b in kin.on_tip} | {name for name, f in system.frames.items() if f.body in kin.on_tip}
+    rigid = tuple(name for name in frames if name not in beyond)  # Jacobians beyond a flexible link: refused
     loads = tuple(eom.load_names)
 
     def load(name: str) -> None:
@@ -176,9 +178,9 @@ def families(eom: EquationsOfMotion, missing: dict) -> list[Family]:
         missing["Jdot_u"] = (f"Jdot_u: J̇ u, the bias of a frame's velocity J u, misses joint "
                              f"'{moving[0]}''s prescribed motion (its rate is no column of J)")
     found = [Family("J", "frame", "jacobian", "6 x NV Jacobian [J_P; J_R] of frame {item}, world-aligned "
-                    "axes", "q", (6, nv), kin.jacobian, frames),
+                    "axes", "q", (6, nv), kin.jacobian, rigid),
              Family("Jdot_u", "frame", "jacobian_dot_u", "J̇ u of frame {item} ([linear; angular])", "q, u",
-                    (6, 1), kin.jacobian_dot_u, frames, "vector"),
+                    (6, 1), kin.jacobian_dot_u, rigid, "vector"),
              Family("X", "frame", "placement", "placement [R | p] (3 x 4) of frame {item} in the world", "q",
                     (3, 4), lambda frame: placement(kin, frame), frames, "pose"),
              Family("tau", "load", "tau_of", "generalized force τ(q, u) of load {item}", "q, u", (nv, 1),

@@ -15,23 +15,27 @@ import sympy as sp
 from .beam import integrals, twist_integrals
 
 
-def nodal_matrices(length, inertia, stiffness, elements: int, dofs: int = 2) -> tuple[np.ndarray, np.ndarray]:
+def nodal_matrices(length, inertia, stiffness, elements: int, dofs: int = 2,
+                   rotary=0.0) -> tuple[np.ndarray, np.ndarray]:
     """(M_nn, K_nn) of the nodes 2 … n+1: bending (dofs = 2, deflection and slope of each node; inertia
-    m, stiffness E I) or twist (dofs = 1, linear elements; inertia ρI_x, stiffness GJ)."""
+    m, stiffness E I, and the sections' rotary inertia ρI about the bending axis: M_nn gains ρI ∫ N' N'ᵀ)
+    or twist (dofs = 1, linear elements; inertia ρI_x, stiffness GJ)."""
     h = sp.sympify(length) / elements
     element = integrals(h) if dofs == 2 else twist_integrals(h)
     size = dofs * (elements + 1)
     M, K = np.zeros((size, size)), np.zeros((size, size))
     for e in range(elements):
         block = slice(dofs * e, dofs * e + 2 * dofs)
-        M[block, block] += np.array(element["NN"], dtype=float)
+        M[block, block] += float(inertia) * np.array(element["NN"], dtype=float)
+        if float(rotary):
+            M[block, block] += float(rotary) * np.array(element["G"], dtype=float)
         K[block, block] += np.array(element["K"], dtype=float)
-    return float(inertia) * M[dofs:, dofs:], float(stiffness) * K[dofs:, dofs:]
+    return M[dofs:, dofs:], float(stiffness) * K[dofs:, dofs:]
 
 
-def clamped_modes(length, inertia, stiffness, elements: int, k: int,
-                  dofs: int = 2) -> tuple[np.ndarray, np.ndarray]:
+def clamped_modes(length, inertia, stiffness, elements: int, k: int, dofs: int = 2,
+                  rotary=0.0) -> tuple[np.ndarray, np.ndarray]:
     """(Φ, ω): the first k mass-normalised modes as the columns of Φ (dofs · n × k), and their frequencies."""
-    M, K = nodal_matrices(length, inertia, stiffness, elements, dofs)
+    M, K = nodal_matrices(length, inertia, stiffness, elements, dofs, rotary)
     omega2, Phi = sla.eigh(K, M, subset_by_index=(0, k - 1))
     return Phi * np.where(Phi[-dofs] < 0, -1.0, 1.0), np.sqrt(omega2)

@@ -112,15 +112,16 @@ class FlexibleLink(Joint):
         values = {"length": self.length, "mass_per_length": self.mass_per_length, **{
             label: self.stiffness[field] for label, field in (("EI", "y"), ("EI_y", "z"), ("GJ", "x"))
             if field in self.fields}}
-        if "x" in self.fields:
-            values["rotary_inertia"] = self.rotary_inertia[0]
+        section = (0, 0, 0) if self.rotary_inertia is None else self.rotary_inertia
+        values.update({f"rotary_inertia {a}": v for a, v in zip("xyz", section) if v != 0})
         for label, value in values.items():
-            if not value.is_number:
+            if not sp.sympify(value).is_number:
                 raise ModelError(f"joint '{self.name}': modes needs a numeric {label}, got {value}")
-        inertia = {"y": self.mass_per_length, "z": self.mass_per_length,
-                   "x": self.rotary_inertia and self.rotary_inertia[0]}
-        return sla.block_diag(*[clamped_modes(self.length, inertia[f], self.stiffness[f], self.elements, k,
-                                              dofs=DOFS[f])[0] for f in self.fields])
+        # per field: its inertia, the sections' rotary inertia about the bending axis (at rest: M_nn)
+        inertia = {"y": (self.mass_per_length, section[2]), "z": (self.mass_per_length, section[1]),
+                   "x": (section[0], 0)}
+        return sla.block_diag(*[clamped_modes(self.length, inertia[f][0], self.stiffness[f], self.elements, k,
+                                              DOFS[f], inertia[f][1])[0] for f in self.fields])
 
     def constants(self) -> dict[str, sp.Expr]:
         extra = {label: value for label, value in (("EI_y", self.EI_y), ("GJ", self.GJ)) if value is not None}
