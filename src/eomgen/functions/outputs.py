@@ -165,7 +165,8 @@ def families(eom: EquationsOfMotion, missing: dict) -> list[Family]:
     reaction."""
     system, kin, nv = eom.system, eom.kinematics, len(eom.u)
     frames = tuple([b.name for b in system.bodies if b.index is not None] + list(system.frames))
-    beyond = {b.name for b in kin.on_tip} | {name for name, f in system.frames.items() if f.body in kin.on_tip}
+    beyond = {b.name for b in kin.on_tip} | {name for name, f in system.frames.items()
+                                              if f.body in kin.on_tip}
     rigid = tuple(name for name in frames if name not in beyond)  # Jacobians beyond a flexible link: refused
     loads = tuple(eom.load_names)
 
