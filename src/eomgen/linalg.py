@@ -99,6 +99,11 @@ def diagonal(s) -> Matrix3:
     return tuple(s * x for x in IDENTITY)
 
 
+def quadratic_form(A: sp.Matrix, x: Sequence) -> sp.Expr:
+    """xᵀ A x, as x · (A x)."""
+    return dot(x, [dot(row, x) for row in A.tolist()])
+
+
 def matmul(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:
     """A B of two `sp.Matrix`es."""
     rows = [A.row(i) for i in range(A.rows)]

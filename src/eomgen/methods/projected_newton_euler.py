@@ -15,7 +15,7 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
-from ..linalg import cross, dot, matmul, mul, scale
+from ..linalg import cross, dot, matmul, mul, quadratic_form, scale
 from ..model.loads import Point
 from ..progress import progress
 from .applied import add_armature, generalized_force, potential_energy
@@ -23,7 +23,6 @@ from .applied import add_armature, generalized_force, potential_energy
 
 def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     system, sub, n = kin.system, kin.sub, kin.n
-    u = sp.Matrix(kin.u)
     M, b, g = Sums(n, n), Sums(n, 1), Sums(n, 1)
     inertial = {"M", "b"} & set(quantities)
     for body in progress(system.bodies, "projected Newton-Euler", unit="body"):
@@ -47,7 +46,7 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     compact = {key: value.matrix() for key, value in (("M", M), ("b", b), ("g", g)) if key in quantities}
     if "M" in quantities:
         add_armature(kin, compact["M"])
-        compact["T"] = dot(u, matmul(compact["M"], u)) / 2
+        compact["T"] = quadratic_form(compact["M"], kin.u) / 2
     compact["U"] = potential_energy(kin)
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)

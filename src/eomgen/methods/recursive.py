@@ -27,8 +27,8 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
-from ..linalg import (ZERO, add, apply, apply_T, compose, compose_T, cross, diagonal, dot, matmul,
-                      matrix, outer, scale, subtract, total, vector)
+from ..linalg import (ZERO, add, apply, apply_T, compose, compose_T, cross, diagonal, dot, matrix, outer,
+                      quadratic_form, scale, subtract, total, vector)
 from .applied import add_armature, applied_wrenches, armature, generalized_force, potential_energy
 
 
@@ -43,7 +43,8 @@ class Recursion:
         self.children = {b: [c for c in bodies if c.parent is b] for b in bodies}
         self.S = {b: [(i, self.sub.add_matrix(vector(v)), self.sub.add_matrix(vector(w)))
                       for i, (v, w) in zip(b.speed_indices, b.joint.subspace())] for b in bodies}
-        self.biases = {b: tuple(self.sub.add_matrix(vector(x)) for x in b.joint.bias()) for b in bodies if self.S[b]}
+        self.biases = {b: tuple(self.sub.add_matrix(vector(x)) for x in b.joint.bias())
+                       for b in bodies if self.S[b]}
         self._moved: dict = {}  # (a, k): body a's subspace in body k's frame
 
     def up(self, b, lin, ang) -> tuple[tuple, tuple]:
@@ -124,7 +125,8 @@ class Recursion:
         for b in self.bodies:
             m, h, I_O = comp[b]
             for j, v, w in S[b]:  # the momentum of the composite moved by u_j = 1: (m v + ω × h, I_O ω + h × v)
-                F = (sub.add_matrix(add(scale(m, v), cross(w, h))), sub.add_matrix(add(apply(I_O, w), cross(h, v))))
+                F = (sub.add_matrix(add(scale(m, v), cross(w, h))),
+                     sub.add_matrix(add(apply(I_O, w), cross(h, v))))
                 k = b
                 while k is not None:
                     above = k.parent is not None and down[k]  # the ancestors' subspaces come down to k
@@ -203,11 +205,10 @@ def inverse_dynamics(kin: Kinematics, loads: bool = False) -> sp.Matrix:
 def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     system, n = kin.system, kin.n
     recursion, zero, rest = Recursion(kin), sp.zeros(3, 1), [0] * n
-    u = sp.Matrix(kin.u)
     compact = {"U": potential_energy(kin)}  # only what is asked: g alone needs one gravity pass
     if "M" in quantities:
         M = compact["M"] = recursion.crba()
-        compact["T"] = dot(u, matmul(M, u)) / 2
+        compact["T"] = quadratic_form(M, kin.u) / 2
     if "b" in quantities:
         compact["b"] = recursion.rnea(kin.u, rest, zero)
     if "g" in quantities:
