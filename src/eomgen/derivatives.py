@@ -32,6 +32,6 @@ def speed_seeds(system: System) -> list[dict]:
 def jacobian(sub: Subexpressions, exprs: sp.Matrix, seeds: Sequence[Mapping], key: Hashable) -> sp.Matrix:
     """The matrix whose column j is the directional derivative of the column `exprs` along seeds[j]
     (memoized in `sub` under (key, j): the same key must always mean the same seeds)."""
-    exprs = sp.Matrix(exprs)
+    exprs = list(exprs)
     columns = [[sub.derivative(e, seed, (key, j)) for e in exprs] for j, seed in enumerate(seeds)]
     return sp.Matrix(len(exprs), len(seeds), lambda i, j: columns[j][i])

@@ -4,7 +4,9 @@ Computed once per system and shared by every method. Every quantity is kept as n
 (see `Subexpressions`). Time derivatives use the chain rule with q̇ = q̇(q, u) of the joints (u but for
 a body twist's speeds): the general `time_derivative` (d/dt f(q) = Σ_k ∂f/∂q_k q̇_k, through the
 intermediates) and, for J̇ u, the same rule applied along the tree (ė = Ω × e for a vector fixed in a
-body), which costs O(n) instead of O(n²) per body; a test checks the two against each other."""
+body), which costs O(n) instead of O(n²) per body; a test checks the two against each other.
+Inside, 3-vectors and rotations are tuples of scalars (`linalg`); what the methods read is an `sp.Matrix`,
+converted once per quantity."""
 from __future__ import annotations
 
 import sympy as sp
@@ -12,7 +14,8 @@ import sympy as sp
 from .constraint_rows import constraint_rows
 from .errors import ModelError
 from .grounded import grounded
-from .linalg import cross, dot, matmul, scale
+from .linalg import (IDENTITY, ZERO, add, apply, compose, cross, dot, matmul, matrix, scale, subtract, total,
+                     vector)
 from .model import FlexibleLink, Placement
 from .model.loads import Point
 from .model.system import Body, Frame, System
@@ -39,9 +42,11 @@ class Kinematics:
             self.time_seeds.update({theta: rate, rate: acceleration})
         self.R: dict[Body, sp.Matrix] = {}
         self.p: dict[Body, sp.Matrix] = {}
-        # per body, its joint's motion subspace in world axes: (u index, v of the body origin, ω)
-        self.columns: dict[Body, list[tuple[int, sp.Matrix, sp.Matrix]]] = {}
-        self._axes: dict[Body, sp.Matrix] = {}  # the axes the joint's S and bias are written in
+        self._R: dict[Body, tuple] = {}  # R and p as tuples
+        self._p: dict[Body, tuple] = {}
+        # per body, its joint's motion subspace in world axes: (u index, v of the body origin, ω), tuples
+        self.columns: dict[Body, list[tuple[int, tuple, tuple]]] = {}
+        self._axes: dict[Body, tuple] = {}  # the axes the joint's S and bias are written in
         self.chain: dict[Body, list[Body]] = {}  # the moving joints from the root to the body
         self.on_tip: dict[Body, str] = {}  # bodies beyond a flexible link: the link's joint
         self._cache: dict = {}
@@ -51,25 +56,25 @@ class Kinematics:
     def _place(self, body: Body) -> None:
         """R, p of the body, and its joint's columns: S in world axes (through R_joint where the joint
         gives S in joint axes, else through R of the body)."""
-        parent, joint = body.parent, body.joint
-        R_parent = self.R[parent] if parent else sp.eye(3)
-        p_parent = self.p[parent] if parent else sp.zeros(3, 1)
+        parent, joint, add_all = body.parent, body.joint, self.sub.add_matrix
+        R_parent = self._R[parent] if parent else IDENTITY
+        p_parent = self._p[parent] if parent else ZERO
         if parent is not None and (isinstance(parent.joint, FlexibleLink) or parent in self.on_tip):
             self.on_tip[body] = self.on_tip.get(parent, parent.joint.name)
         if parent is not None and isinstance(parent.joint, FlexibleLink):  # children sit on the tip
             R_tip, t_tip = parent.joint.tip()
-            p_parent = p_parent + matmul(R_parent, t_tip)
-            R_parent = self.sub.add_matrix(matmul(R_parent, R_tip))
-        R_joint = self.sub.add_matrix(matmul(R_parent, body.placement.rotation))
-        p_joint = p_parent + matmul(R_parent, body.placement.translation)
+            p_parent = add(p_parent, apply(R_parent, vector(t_tip)))
+            R_parent = add_all(compose(R_parent, vector(R_tip)))
+        R_joint = add_all(compose(R_parent, vector(body.placement.rotation)))
+        p_joint = add(p_parent, apply(R_parent, vector(body.placement.translation)))
         R_q, t_q = joint.motion()
-        self.R[body] = self.sub.add_matrix(matmul(R_joint, R_q))
-        self.p[body] = self.sub.add_matrix(p_joint + matmul(R_joint, t_q))
+        R = self._R[body] = add_all(compose(R_joint, vector(R_q)))
+        p = self._p[body] = add_all(add(p_joint, apply(R_joint, vector(t_q))))
+        self.R[body], self.p[body] = matrix(R, 3), matrix(p)
         S = joint.joint_frame_subspace()
-        self._axes[body] = R_joint if S is not None else self.R[body]
+        axes = self._axes[body] = R_joint if S is not None else R
         S = joint.subspace() if S is None else S
-        self.columns[body] = [(i, self.sub.add_matrix(matmul(self._axes[body], v)),
-                               self.sub.add_matrix(matmul(self._axes[body], w)))
+        self.columns[body] = [(i, add_all(apply(axes, vector(v))), add_all(apply(axes, vector(w))))
                               for i, (v, w) in zip(body.speed_indices, S)]
         self.chain[body] = (list(self.chain[parent]) if parent else []) + ([body] if self.columns[body] else [])
 
@@ -78,8 +83,13 @@ class Kinematics:
         """r = p + R r_local, world coordinates of a point."""
         if point.body is None:
             return point.offset
-        return self._cached(("r", point.body, tuple(point.offset)),
-                            lambda: self.sub.add_matrix(self.p[point.body] + matmul(self.R[point.body], point.offset)))
+        return self._cached(("r", point.body, tuple(point.offset)), lambda: matrix(self._position(point)))
+
+    def _position(self, point: Point) -> tuple:
+        body = point.body
+        return vector(point.offset) if body is None else self._cached(
+            ("_r", body, tuple(point.offset)),
+            lambda: self.sub.add_matrix(add(self._p[body], apply(self._R[body], vector(point.offset)))))
 
     def com(self, body: Body) -> sp.Matrix:
         """World coordinates of the body's centre of mass."""
@@ -88,22 +98,26 @@ class Kinematics:
     def frame_placement(self, name: str) -> tuple[sp.Matrix, sp.Matrix]:
         """(R, r) of a named frame in the world."""
         f = self._frame(name)
-        R_body = self.R[f.body] if f.body else sp.eye(3)
-        R = self._cached(("R", name), lambda: self.sub.add_matrix(matmul(R_body, f.placement.rotation)))
+        R_body = self._R[f.body] if f.body else IDENTITY
+        R = self._cached(("R", name),
+                         lambda: matrix(self.sub.add_matrix(compose(R_body, vector(f.placement.rotation))), 3))
         return R, self.position(Point(f.body, f.placement.translation))
 
     def inertia_world(self, body: Body) -> sp.Matrix:
         """Θ in world axes: R Θ Rᵀ (about the centre of mass)."""
+        return self._cached(("Theta", body), lambda: matrix(self._inertia_world(body), 3))
+
+    def _inertia_world(self, body: Body) -> tuple:
         def build():
-            R = self.R[body]
-            RI = matmul(R, body.inertia)
-            rows = [RI.row(i) for i in range(3)]
-            Theta = sp.zeros(3, 3)
+            R = self._R[body]
+            RI = compose(R, vector(body.inertia))
+            Theta = [None] * 9
             for i in range(3):
                 for j in range(i, 3):  # symmetric: the upper triangle, mirrored
-                    Theta[i, j] = Theta[j, i] = self.sub.add(dot(rows[i], R.row(j)))
-            return Theta
-        return self._cached(("Theta", body), build)
+                    entry = dot(RI[3 * i:3 * i + 3], R[3 * j:3 * j + 3])
+                    Theta[3 * i + j] = Theta[3 * j + i] = self.sub.add(entry)
+            return tuple(Theta)
+        return self._cached(("_Theta", body), build)
 
     # --- Jacobians (3 × n, world axes) --------------------------------------------------------
     def rigid(self, body: Body | None) -> None:
@@ -120,25 +134,26 @@ class Kinematics:
         self.rigid(point.body)
 
         def build():
-            J = sp.zeros(3, self.n)
             if point.body is None:
-                return J
-            r = self.position(point)
+                return sp.zeros(3, self.n)
+            J, r = [[sp.Integer(0)] * self.n for _ in range(3)], self._position(point)
             for k in self.chain[point.body]:
-                arm = self.sub.add_matrix(r - self.p[k])
+                arm = self.sub.add_matrix(subtract(r, self._p[k]))
                 for i, v, w in self.columns[k]:
-                    J[:, i] += v + self.sub.add_matrix(cross(w, arm))
-            return J
+                    for row, x in enumerate(add(v, self.sub.add_matrix(cross(w, arm)))):
+                        J[row][i] += x
+            return sp.Matrix(J)
         return self._cached(("J_P", point.body, tuple(point.offset)), build)
 
     def J_R(self, body: Body | None) -> sp.Matrix:
         """Rotational Jacobian: column i is Σ ω_k over the joints on the way whose motion has u_i."""
         self.rigid(body)
-        J = sp.zeros(3, self.n)
+        J = [[sp.Integer(0)] * self.n for _ in range(3)]
         for k in self.chain.get(body, []):
             for i, _, w in self.columns[k]:
-                J[:, i] += w
-        return J
+                for row, x in enumerate(w):
+                    J[row][i] += x
+        return sp.Matrix(J)
 
     def jacobian(self, name: str) -> sp.Matrix:
         """6 × n Jacobian [J_P; J_R] of a named frame's origin in world-aligned axes."""
@@ -155,26 +170,28 @@ class Kinematics:
         """Ω = J_R u, built along the chain: Ω_i = Ω_parent + Σ_k ω_k u_k."""
         if body is None:
             return sp.zeros(3, 1)
+        return self._cached(("w", body), lambda: matrix(self._omega(body)))
 
-        def build():
-            return self.sub.add_matrix(self.omega(body.parent) + self.relative(body)[1])
-        return self._cached(("w", body), build)
+    def _omega(self, body: Body | None) -> tuple:
+        if body is None:
+            return ZERO
+        return self._cached(("_w", body), lambda: self.sub.add_matrix(add(self._omega(body.parent),
+                                                                          self.relative(body)[1])))
 
     def time_derivative(self, expr: sp.Matrix) -> sp.Matrix:
         """d/dt by the chain rule, q̇ = u and u held fixed (so d/dt (J u) = J̇ u)."""
         return expr.applyfunc(lambda e: self.sub.add(self.sub.derivative(e, self.time_seeds, TIME)))
 
-    def relative(self, body: Body) -> tuple[sp.Matrix, sp.Matrix]:
+    def relative(self, body: Body) -> tuple[tuple, tuple]:
         """(V, W): the velocity of the body origin and the angular velocity relative to the joint frame,
         world axes, Σ_k (v_k, ω_k) u_k."""
         def build():
-            V, W = sp.zeros(3, 1), sp.zeros(3, 1)
-            for i, v, w in self.columns[body]:
-                V, W = V + scale(self.u[i], v), W + scale(self.u[i], w)
+            V = total(scale(self.u[i], v) for i, v, _ in self.columns[body])
+            W = total(scale(self.u[i], w) for i, _, w in self.columns[body])
             return self.sub.add_matrix(V), self.sub.add_matrix(W)
         return self._cached(("rel", body), build)
 
-    def _bias(self, body: Body | None) -> tuple[sp.Matrix, sp.Matrix]:
+    def _bias(self, body: Body | None) -> tuple[tuple, tuple]:
         """(α_i, a_i): angular acceleration and acceleration of the body origin when u̇ = 0.
 
         The chain rule along the tree, with ė = Ω × e for every vector fixed in a moving body,
@@ -183,28 +200,28 @@ class Kinematics:
         a_i = a_p + α_p × d + Ω_p × (Ω_p × d) + 2 Ω_p × V + R a_rel,
         with R the axes the joint writes its subspace in (`Joint.bias`, `Joint.joint_frame_subspace`)."""
         if body is None:
-            return sp.zeros(3, 1), sp.zeros(3, 1)
+            return ZERO, ZERO
 
         def build():
             parent = body.parent
             alpha_p, a_p = self._bias(parent)
-            Omega_p = self.omega(parent)
-            d = self.sub.add_matrix(self.p[body] - (self.p[parent] if parent else sp.zeros(3, 1)))
-            a = a_p + cross(alpha_p, d) + cross(Omega_p, self.sub.add_matrix(cross(Omega_p, d)))
+            Omega_p = self._omega(parent)
+            d = self.sub.add_matrix(subtract(self._p[body], self._p[parent] if parent else ZERO))
+            a = add(add(a_p, cross(alpha_p, d)), cross(Omega_p, self.sub.add_matrix(cross(Omega_p, d))))
             alpha = alpha_p
             if self.columns[body]:
                 V, W = self.relative(body)
                 a_rel, alpha_rel = self._joint_bias(body)
-                alpha = alpha + cross(Omega_p, W) + matmul(self._axes[body], alpha_rel)
-                a = a + scale(2, cross(Omega_p, V)) + matmul(self._axes[body], a_rel)
+                alpha = add(add(alpha, cross(Omega_p, W)), apply(self._axes[body], alpha_rel))
+                a = add(add(a, scale(2, cross(Omega_p, V))), apply(self._axes[body], a_rel))
             return self.sub.add_matrix(alpha), self.sub.add_matrix(a)
         return self._cached(("bias", body), build)
 
-    def _joint_bias(self, body: Body) -> tuple[sp.Matrix, sp.Matrix]:
+    def _joint_bias(self, body: Body) -> tuple[tuple, tuple]:
         """The joint's (a_rel, α_rel) in the axes of its subspace (a mimic's columns are constant: 0)."""
         joint = body.joint
         bias = joint.bias() if joint.joint_frame_subspace() is None else joint.joint_frame_bias()
-        return tuple(self.sub.add_matrix(x) for x in bias)
+        return tuple(self.sub.add_matrix(vector(x)) for x in bias)
 
     def Jdot_u_P(self, point: Point) -> sp.Matrix:
         """J̇_P u: the acceleration of a point when u̇ = 0, a_i + α_i × c + Ω_i × (Ω_i × c), c = r − p_i."""
@@ -214,15 +231,16 @@ class Kinematics:
 
         def build():
             alpha, a = self._bias(point.body)
-            Omega = self.omega(point.body)
-            c = self.sub.add_matrix(matmul(self.R[point.body], point.offset))
-            return self.sub.add_matrix(a + cross(alpha, c) + cross(Omega, self.sub.add_matrix(cross(Omega, c))))
+            Omega = self._omega(point.body)
+            c = self.sub.add_matrix(apply(self._R[point.body], vector(point.offset)))
+            return matrix(self.sub.add_matrix(add(add(a, cross(alpha, c)),
+                                                  cross(Omega, self.sub.add_matrix(cross(Omega, c))))))
         return self._cached(("a", point.body, tuple(point.offset)), build)
 
     def Jdot_u_R(self, body: Body | None) -> sp.Matrix:
         """J̇_R u: the angular acceleration of a body when u̇ = 0."""
         self.rigid(body)
-        return self._bias(body)[0]
+        return matrix(self._bias(body)[0])
 
     def jacobian_dot_u(self, name: str) -> sp.Matrix:
         """6 × 1 J̇ u of a named frame, rows [linear; angular]."""

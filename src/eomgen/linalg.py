@@ -1,11 +1,33 @@
-"""Small matrix products that never form 0 · x.
+"""Small vector and matrix products on plain tuples of scalars that never form 0 · x.
 
-sympy answers `0 * (a + b)` by asking whether a + b is finite, which walks the whole expression;
-robots have many structural zeros (axes, placements, Jacobian columns), so the products used in the
-derivations skip them."""
+The hot core (kinematics, the recursions) keeps a 3-vector as a tuple (x, y, z) and a 3×3 matrix as
+the tuple of its 9 entries row by row (the order in which `sp.Matrix` iterates them): indexing a
+tuple is much cheaper than a `sp.Matrix`, which checks and converts every entry it gives or takes.
+`vector` and `matrix` convert at the boundary. sympy answers `0 * (a + b)` by asking whether a + b is
+finite, which walks the whole expression; robots have many structural zeros (axes, placements,
+Jacobian columns), so the products skip them. `cross` and `scale` take an `sp.Matrix` as well and then
+give one; `matmul` multiplies `sp.Matrix`es of any shape."""
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import sympy as sp
+
+Vector = tuple  # (x, y, z)
+Matrix3 = tuple  # (A_00, A_01, A_02, A_10, ..., A_22)
+
+ZERO: Vector = (sp.Integer(0),) * 3
+IDENTITY: Matrix3 = tuple(sp.Integer(int(i == j)) for i in range(3) for j in range(3))
+
+
+def vector(x: Sequence) -> tuple:
+    """The entries of a column `sp.Matrix` (or of a 3×3 one, row by row), as a tuple."""
+    return tuple(x)
+
+
+def matrix(x: Sequence, cols: int = 1) -> sp.Matrix:
+    """The `sp.Matrix` of `cols` columns with the entries of `x` row by row."""
+    return sp.Matrix(len(x) // cols, cols, x)
 
 
 def mul(a, b) -> sp.Expr:
@@ -17,19 +39,73 @@ def dot(a, b) -> sp.Expr:
     return sp.Add(*[x * y for x, y in zip(a, b) if x != 0 and y != 0])
 
 
-def matmul(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:
+def add(a: Sequence, b: Sequence) -> tuple:
+    """a + b, entry by entry."""
+    return tuple(x + y for x, y in zip(a, b))
+
+
+def subtract(a: Sequence, b: Sequence) -> tuple:
+    """a − b, entry by entry."""
+    return tuple(x - y for x, y in zip(a, b))
+
+
+def total(terms, start: Sequence = ZERO) -> tuple:
+    """start + Σ terms, entry by entry, left to right."""
+    for term in terms:
+        start = add(start, term)
+    return tuple(start)
+
+
+def scale(s, A):
+    """s A (an `sp.Matrix` for an `sp.Matrix`)."""
+    if isinstance(A, sp.MatrixBase):
+        return A.applyfunc(lambda x: mul(s, x))
+    return tuple(mul(s, x) for x in A)
+
+
+def cross(a: Sequence, b: Sequence):
+    """a × b (an `sp.Matrix` where a or b is one)."""
+    c = (dot((a[1], -a[2]), (b[2], b[1])), dot((a[2], -a[0]), (b[0], b[2])), dot((a[0], -a[1]), (b[1], b[0])))
+    return sp.Matrix(c) if isinstance(a, sp.MatrixBase) or isinstance(b, sp.MatrixBase) else c
+
+
+def apply(A: Matrix3, v: Sequence) -> Vector:
+    """A v."""
+    return dot(A[0:3], v), dot(A[3:6], v), dot(A[6:9], v)
+
+
+def apply_T(A: Matrix3, v: Sequence) -> Vector:
+    """Aᵀ v."""
+    return dot(A[0::3], v), dot(A[1::3], v), dot(A[2::3], v)
+
+
+def compose(A: Matrix3, B: Matrix3) -> Matrix3:
     """A B."""
+    return tuple(dot(A[3 * i:3 * i + 3], B[j::3]) for i in range(3) for j in range(3))
+
+
+def compose_T(A: Matrix3, B: Matrix3) -> Matrix3:
+    """A Bᵀ."""
+    return tuple(dot(A[3 * i:3 * i + 3], B[3 * j:3 * j + 3]) for i in range(3) for j in range(3))
+
+
+def outer(a: Vector, b: Vector) -> Matrix3:
+    """a bᵀ."""
+    return tuple(mul(x, y) for x in a for y in b)
+
+
+def diagonal(s) -> Matrix3:
+    """s 1."""
+    return tuple(s * x for x in IDENTITY)
+
+
+def quadratic_form(A: sp.Matrix, x: Sequence) -> sp.Expr:
+    """xᵀ A x, as x · (A x)."""
+    return dot(x, [dot(row, x) for row in A.tolist()])
+
+
+def matmul(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:
+    """A B of two `sp.Matrix`es."""
     rows = [A.row(i) for i in range(A.rows)]
     cols = [B.col(j) for j in range(B.cols)]
     return sp.Matrix(A.rows, B.cols, lambda i, j: dot(rows[i], cols[j]))
-
-
-def scale(s, A: sp.Matrix) -> sp.Matrix:
-    """s A."""
-    return A.applyfunc(lambda x: mul(s, x))
-
-
-def cross(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
-    """a × b."""
-    return sp.Matrix([dot((a[1], -a[2]), (b[2], b[1])), dot((a[2], -a[0]), (b[0], b[2])),
-                      dot((a[0], -a[1]), (b[1], b[0]))])

@@ -20,7 +20,7 @@ import sympy as sp
 
 from .eom import EquationsOfMotion
 from .errors import ModelError
-from .linalg import cross, dot, matmul
+from .linalg import add, cross, dot, matmul, matrix
 from .methods import derive
 from .methods.applied import armature
 from .methods.recursive import Recursion, about_origin, moved
@@ -100,7 +100,7 @@ def up_to_link(body, R: sp.Matrix, t: sp.Matrix) -> tuple:
 
 def ten(m, h, I_O) -> list:
     """A link's ten parameters in Pinocchio's order from (m, h, I_O)."""
-    return [m, *h, *(I_O[j, k] for j, k in UNIT)]
+    return [m, *h, *(I_O[3 * j + k] for j, k in UNIT)]
 
 
 def speeds(system: System) -> list[tuple[int, str]]:
@@ -135,7 +135,7 @@ def _derive(eom: EquationsOfMotion) -> tuple:
     motion = rec.motions(kin.u, list(system.ud), system.gravity)
     Y, T, U, pi, names = [], [], [], [], []
     for link, welded in links(system).items():
-        w, al, a = motion[link]
+        w, al, a = (matrix(x) for x in motion[link])
         for wrench in _wrenches(w, al, a):
             Y.append(_torques(rec, link, *wrench))
         R = kin.R[link]
@@ -209,7 +209,7 @@ def _parameters(link, welded: list) -> list[sp.Expr]:
         P = body.placement
         _, R, t = up_to_link(body, matmul(P.rotation, R_q), P.translation + matmul(P.rotation, t_q))
         m_b, h_b, I_b = moved(about_origin(body), R, t)
-        m, h, I_O = m + m_b, h + h_b, I_O + I_b
+        m, h, I_O = m + m_b, add(h, h_b), add(I_O, I_b)
     return ten(m, h, I_O)
 
 

@@ -74,9 +74,11 @@ class Subexpressions:
         self._named[expr] = symbol
         return symbol
 
-    def add_matrix(self, matrix: sp.Matrix) -> sp.Matrix:
-        """Name every entry of `matrix`."""
-        return matrix.applyfunc(self.add)
+    def add_matrix(self, matrix):
+        """Name every entry of `matrix`: an `sp.Matrix`, or a tuple of entries (`linalg`)."""
+        if isinstance(matrix, sp.MatrixBase):
+            return matrix.applyfunc(self.add)
+        return tuple(map(self.add, matrix))
 
     def dependencies(self, exprs: Iterable[sp.Expr]) -> list[sp.Symbol]:
         """The intermediates that `exprs` need, in definition order."""

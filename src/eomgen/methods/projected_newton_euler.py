@@ -15,7 +15,7 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
-from ..linalg import cross, dot, matmul, mul, scale
+from ..linalg import add, apply, cross, dot, mul, quadratic_form, scale, vector
 from ..model.loads import Point
 from ..progress import progress
 from .applied import add_armature, generalized_force, potential_energy
@@ -23,7 +23,6 @@ from .applied import add_armature, generalized_force, potential_energy
 
 def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     system, sub, n = kin.system, kin.sub, kin.n
-    u = sp.Matrix(kin.u)
     M, b, g = Sums(n, n), Sums(n, 1), Sums(n, 1)
     inertial = {"M", "b"} & set(quantities)
     for body in progress(system.bodies, "projected Newton-Euler", unit="body"):
@@ -31,32 +30,36 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
             continue
         idx = sorted({i for k in kin.chain[body] for i, _, _ in kin.columns[k]})
         S = Point(body, body.com)
-        J_P = kin.J_P(S)[:, idx]
+        P = columns(kin.J_P(S), idx)
         if "g" in quantities:
-            g.add(idx, matmul(J_P.T, scale(-body.mass, system.gravity)))
+            mg = scale(-body.mass, vector(system.gravity))
+            g.add(idx, [dot(P_a, mg) for P_a in P])
         if not inertial:
             continue
-        J_R = kin.J_R(body)[:, idx]
-        Theta, Omega = kin.inertia_world(body), kin.omega(body)
+        R = columns(kin.J_R(body), idx)
+        Theta, Omega = vector(kin.inertia_world(body)), vector(kin.omega(body))
         if "M" in quantities:
-            P, R, ThetaR = (columns(X) for X in (J_P, J_R, sub.add_matrix(matmul(Theta, J_R))))
+            ThetaR = sub.add_matrix([dot(Theta[3 * i:3 * i + 3], R_c) for i in range(3) for R_c in R])
+            ThetaR = [ThetaR[c::len(R)] for c in range(len(R))]  # Θ J_R, named row by row, by columns
             M.add_upper(idx, lambda a, c: mul(body.mass, dot(P[a], P[c])) + dot(R[a], ThetaR[c]))
         if "b" in quantities:
-            b.add(idx, matmul(J_P.T, scale(body.mass, kin.Jdot_u_P(S))) + matmul(J_R.T, (
-                matmul(Theta, kin.Jdot_u_R(body)) + cross(Omega, sub.add_matrix(matmul(Theta, Omega))))))
+            ma = scale(body.mass, vector(kin.Jdot_u_P(S)))
+            h = add(apply(Theta, vector(kin.Jdot_u_R(body))), cross(Omega, sub.add_matrix(apply(Theta, Omega))))
+            b.add(idx, [dot(P_a, ma) + dot(R_a, h) for P_a, R_a in zip(P, R)])
     compact = {key: value.matrix() for key, value in (("M", M), ("b", b), ("g", g)) if key in quantities}
     if "M" in quantities:
         add_armature(kin, compact["M"])
-        compact["T"] = dot(u, matmul(compact["M"], u)) / 2
+        compact["T"] = quadratic_form(compact["M"], kin.u) / 2
     compact["U"] = potential_energy(kin)
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)
     return EquationsOfMotion(kin, "projected_newton_euler", compact)
 
 
-def columns(A: sp.Matrix) -> list[list[sp.Expr]]:
-    """The columns of A as lists."""
-    return A.T.tolist()
+def columns(A: sp.Matrix, idx: list[int]) -> list[list[sp.Expr]]:
+    """The columns idx of A as lists."""
+    rows = A.tolist()
+    return [[row[j] for row in rows] for j in idx]
 
 
 class Sums:
@@ -67,11 +70,10 @@ class Sums:
         self.terms: list[list[list]] = [[[] for _ in range(cols)] for _ in range(rows)]
         self.cols, self.symmetric = cols, False
 
-    def add(self, idx: list[int], part: sp.Matrix) -> None:
-        """[idx, idx] += part, a body's contribution on the speeds of its chain (a column: [idx] += part)."""
-        for a, i in enumerate(idx):
-            for c in range(part.shape[1]):
-                self.terms[i][idx[c] if self.cols > 1 else 0].append(part[a, c])
+    def add(self, idx: list[int], part: list) -> None:
+        """[idx] += part, a body's contribution on the speeds of its chain (a column)."""
+        for i, x in zip(idx, part):
+            self.terms[i][0].append(x)
 
     def add_upper(self, idx: list[int], entry: Callable[[int, int], sp.Expr]) -> None:
         """[idx, idx] += a symmetric part, given by its entries entry(a, c) for c >= a (M: half the work)."""

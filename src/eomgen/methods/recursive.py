@@ -27,54 +27,56 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
-from ..linalg import cross, dot, matmul, scale
+from ..linalg import (ZERO, add, apply, apply_T, compose, compose_T, cross, diagonal, dot, matrix, outer,
+                      quadratic_form, scale, subtract, total, vector)
 from .applied import add_armature, applied_wrenches, armature, generalized_force, potential_energy
 
 
 class Recursion:
     """The bodies' transforms (R, t), motion subspaces S and joint biases in body axes, and the two
-    recursions over them."""
+    recursions over them (3-vectors and 3×3 matrices as tuples, `linalg`)."""
 
     def __init__(self, kin: Kinematics) -> None:
         self.kin, self.sub, self.n = kin, kin.sub, kin.n
         bodies = self.bodies = kin.system.bodies
         self.X = {b: _transform(kin, b) for b in bodies}
         self.children = {b: [c for c in bodies if c.parent is b] for b in bodies}
-        self.S = {b: [(i, self.sub.add_matrix(v), self.sub.add_matrix(w))
+        self.S = {b: [(i, self.sub.add_matrix(vector(v)), self.sub.add_matrix(vector(w)))
                       for i, (v, w) in zip(b.speed_indices, b.joint.subspace())] for b in bodies}
-        self.biases = {b: tuple(self.sub.add_matrix(x) for x in b.joint.bias()) for b in bodies if self.S[b]}
+        self.biases = {b: tuple(self.sub.add_matrix(vector(x)) for x in b.joint.bias())
+                       for b in bodies if self.S[b]}
         self._moved: dict = {}  # (a, k): body a's subspace in body k's frame
 
-    def up(self, b, lin: sp.Matrix, ang: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
+    def up(self, b, lin, ang) -> tuple[tuple, tuple]:
         """A force (lin, ang) in body b's frame, expressed in its parent's frame."""
         R, t = self.X[b]
-        lin = self.sub.add_matrix(matmul(R, lin))
-        return lin, self.sub.add_matrix(matmul(R, ang) + cross(t, lin))
+        lin = self.sub.add_matrix(apply(R, lin))
+        return lin, self.sub.add_matrix(add(apply(R, ang), cross(t, lin)))
 
-    def _motion(self, b, parent: tuple, u, ud) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+    def _motion(self, b, parent: tuple, u, ud) -> tuple[tuple, tuple, tuple]:
         """(Ω, α, a) of body b from its parent's (module formulas)."""
-        sub, zero = self.sub, sp.zeros(3, 1)
+        sub = self.sub
         (R, t), (w_p, al_p, a_p) = self.X[b], parent
-        w = sub.add_matrix(matmul(R.T, w_p))
-        al = matmul(R.T, al_p)
-        a_t = a_p + cross(al_p, t) + cross(w_p, sub.add_matrix(cross(w_p, t)))
-        a = matmul(R.T, sub.add_matrix(a_t))
+        w = sub.add_matrix(apply_T(R, w_p))
+        al = apply_T(R, al_p)
+        a_t = add(add(a_p, cross(al_p, t)), cross(w_p, sub.add_matrix(cross(w_p, t))))
+        a = apply_T(R, sub.add_matrix(a_t))
         if any(u[i] != 0 for i, _, _ in self.S[b]):
-            v_rel = sum((scale(u[i], v) for i, v, _ in self.S[b]), zero)
-            w_rel = sub.add_matrix(sum((scale(u[i], x) for i, _, x in self.S[b]), zero))
+            v_rel = total(scale(u[i], v) for i, v, _ in self.S[b])
+            w_rel = sub.add_matrix(total(scale(u[i], x) for i, _, x in self.S[b]))
             a_rel, al_rel = self.biases[b]
-            al = al + cross(w, w_rel) + al_rel
-            a = a + scale(2, cross(w, sub.add_matrix(v_rel))) + a_rel
-            w = w + w_rel
-        al = al + sum((scale(ud[i], x) for i, _, x in self.S[b]), zero)
-        a = a + sum((scale(ud[i], v) for i, v, _ in self.S[b]), zero)
+            al = add(add(al, cross(w, w_rel)), al_rel)
+            a = add(add(a, scale(2, cross(w, sub.add_matrix(v_rel)))), a_rel)
+            w = add(w, w_rel)
+        al = add(al, total(scale(ud[i], x) for i, _, x in self.S[b]))
+        a = add(a, total(scale(ud[i], v) for i, v, _ in self.S[b]))
         return sub.add_matrix(w), sub.add_matrix(al), sub.add_matrix(a)
 
     def motions(self, u, ud, gravity: sp.Matrix) -> dict:
         """(Ω, α, a) of every body in its own axes, parents first, the base accelerating with −g⃗."""
-        zero, motion = sp.zeros(3, 1), {}
+        motion = {}
         for b in self.bodies:
-            parent = (zero, zero, -gravity) if b.parent is None else motion[b.parent]
+            parent = (ZERO, ZERO, tuple(-x for x in gravity)) if b.parent is None else motion[b.parent]
             motion[b] = self._motion(b, parent, u, ud)
         return motion
 
@@ -86,27 +88,28 @@ class Recursion:
         sub = self.sub
         F, N = {}, {}
         for b, (w, al, a) in self.motions(u, ud, gravity).items():
-            c = b.com
-            a_S = a + cross(al, c) + cross(w, sub.add_matrix(cross(w, c)))
+            c, inertia = vector(b.com), vector(b.inertia)
+            a_S = add(add(a, cross(al, c)), cross(w, sub.add_matrix(cross(w, c))))
             f = sub.add_matrix(scale(b.mass, a_S))
-            N[b] = matmul(b.inertia, al) + cross(w, sub.add_matrix(matmul(b.inertia, w))) + cross(c, f)
+            N[b] = add(add(apply(inertia, al), cross(w, sub.add_matrix(apply(inertia, w)))), cross(c, f))
             F[b] = f
         for point, F_ext, T_ext in (w for load in self.kin.system.loads if loads
                                     for w in applied_wrenches(self.kin, load)):
             if point.body is not None:  # a force on the world moves nothing
-                R = self.kin.R[point.body]
-                f = sub.add_matrix(matmul(R.T, sub.add_matrix(F_ext)))
-                F[point.body] = F[point.body] - f
-                N[point.body] = N[point.body] - cross(point.offset, f) - matmul(R.T, sub.add_matrix(T_ext))
-        tau = sp.zeros(self.n, 1)
+                R = vector(self.kin.R[point.body])
+                f = sub.add_matrix(apply_T(R, sub.add_matrix(vector(F_ext))))
+                F[point.body] = subtract(F[point.body], f)
+                N[point.body] = subtract(subtract(N[point.body], cross(vector(point.offset), f)),
+                                         apply_T(R, sub.add_matrix(vector(T_ext))))
+        tau = [sp.Integer(0)] * self.n
         for b in reversed(self.bodies):
             for c in self.children[b]:
                 lin, ang = self.up(c, F[c], N[c])
-                F[b], N[b] = F[b] + lin, N[b] + ang
+                F[b], N[b] = add(F[b], lin), add(N[b], ang)
             F[b], N[b] = sub.add_matrix(F[b]), sub.add_matrix(N[b])
             for i, v, w in self.S[b]:
                 tau[i] += dot(v, F[b]) + dot(w, N[b])
-        return tau
+        return matrix(tau)
 
     def crba(self) -> sp.Matrix:
         """M: composite inertias from the leaves, then each joint's column up to the root."""
@@ -116,13 +119,14 @@ class Recursion:
             m, h, I_O = about_origin(b)
             for ch in self.children[b]:
                 m_c, h_c, I_c = moved(comp[ch], *self.X[ch], sub.add_matrix)
-                m, h, I_O = m + m_c, h + h_c, I_O + I_c
+                m, h, I_O = m + m_c, add(h, h_c), add(I_O, I_c)
             comp[b] = (sub.add(m), sub.add_matrix(h), _symmetric(sub, I_O))
-        M, down = sp.zeros(self.n, self.n), self._meetings()
+        M, down = [[sp.Integer(0)] * self.n for _ in range(self.n)], self._meetings()
         for b in self.bodies:
             m, h, I_O = comp[b]
             for j, v, w in S[b]:  # the momentum of the composite moved by u_j = 1: (m v + ω × h, I_O ω + h × v)
-                F = (sub.add_matrix(scale(m, v) + cross(w, h)), sub.add_matrix(matmul(I_O, w) + cross(h, v)))
+                F = (sub.add_matrix(add(scale(m, v), cross(w, h))),
+                     sub.add_matrix(add(apply(I_O, w), cross(h, v))))
                 k = b
                 while k is not None:
                     above = k.parent is not None and down[k]  # the ancestors' subspaces come down to k
@@ -131,12 +135,13 @@ class Recursion:
                             if k is b and a is b and i > j:
                                 continue
                             M_ij = dot(v_i, F[0]) + dot(w_i, F[1])
-                            M[i, j] += M_ij
+                            M[i][j] += M_ij
                             if a is not b or i != j:  # a mimic below its driver meets it twice on M_jj
-                                M[j, i] += M_ij
+                                M[j][i] += M_ij
                     if above or k.parent is None:
                         break
                     F, k = self.up(k, *F), k.parent
+        M = sp.Matrix(M) if self.n else sp.zeros(0, 0)
         add_armature(self.kin, M)
         return M
 
@@ -182,8 +187,8 @@ class Recursion:
             else:
                 R, t = self.X[k]
                 self._moved[key] = [
-                    (i, self.sub.add_matrix(matmul(R.T, self.sub.add_matrix(v + cross(w, t)))),
-                     self.sub.add_matrix(matmul(R.T, w))) for i, v, w in self._subspace(a, k.parent)]
+                    (i, self.sub.add_matrix(apply_T(R, self.sub.add_matrix(add(v, cross(w, t))))),
+                     self.sub.add_matrix(apply_T(R, w))) for i, v, w in self._subspace(a, k.parent)]
         return self._moved[key]
 
 
@@ -200,11 +205,10 @@ def inverse_dynamics(kin: Kinematics, loads: bool = False) -> sp.Matrix:
 def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     system, n = kin.system, kin.n
     recursion, zero, rest = Recursion(kin), sp.zeros(3, 1), [0] * n
-    u = sp.Matrix(kin.u)
     compact = {"U": potential_energy(kin)}  # only what is asked: g alone needs one gravity pass
     if "M" in quantities:
         M = compact["M"] = recursion.crba()
-        compact["T"] = dot(u, matmul(M, u)) / 2
+        compact["T"] = quadratic_form(M, kin.u) / 2
     if "b" in quantities:
         compact["b"] = recursion.rnea(kin.u, rest, zero)
     if "g" in quantities:
@@ -217,33 +221,38 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
 
 
 def about_origin(body) -> tuple:
-    """(m, h = m c, I_O = I_c + m (cᵀc 1 − c cᵀ)) of a body about its frame's origin, in its axes."""
-    m, c = body.mass, body.com
-    return m, scale(m, c), body.inertia + scale(m, dot(c, c) * sp.eye(3) - matmul(c, c.T))
+    """(m, h = m c, I_O = I_c + m (cᵀc 1 − c cᵀ)) of a body about its frame's origin, in its axes (tuples,
+    `linalg`)."""
+    m, c = body.mass, vector(body.com)
+    return m, scale(m, c), add(vector(body.inertia), scale(m, subtract(diagonal(dot(c, c)), outer(c, c))))
 
 
-def moved(inertia: tuple, R: sp.Matrix, t: sp.Matrix, name=lambda x: x) -> tuple:
+def moved(inertia: tuple, R, t, name=lambda x: x) -> tuple:
     """(m, h, I_O) of a body in the axes of a frame where x = R x_body + t:
     h' = R h + m t,  I_O' = R I_O Rᵀ + m (|t|² 1 − t tᵀ) + 2 (t · R h) 1 − t (R h)ᵀ − (R h) tᵀ;
-    `name` names R h and R I_O (the recursion's intermediates)."""
+    `name` names R h and R I_O (the recursion's intermediates). Tuples (`linalg`) or `sp.Matrix`es in,
+    tuples out."""
     m, h, I_O = inertia
-    Rh = name(matmul(R, h))
-    RI = name(matmul(R, I_O))
-    return (m, Rh + scale(m, t), matmul(RI, R.T) + scale(m, dot(t, t) * sp.eye(3) - matmul(t, t.T))
-            + 2 * dot(t, Rh) * sp.eye(3) - matmul(t, Rh.T) - matmul(Rh, t.T))
+    R, t = vector(R), vector(t)
+    Rh = name(apply(R, vector(h)))
+    RI = name(compose(R, vector(I_O)))
+    I_moved = add(compose_T(RI, R), scale(m, subtract(diagonal(dot(t, t)), outer(t, t))))
+    I_moved = subtract(subtract(add(I_moved, diagonal(2 * dot(t, Rh))), outer(t, Rh)), outer(Rh, t))
+    return m, add(Rh, scale(m, t)), I_moved
 
 
-def _transform(kin: Kinematics, body) -> tuple[sp.Matrix, sp.Matrix]:
+def _transform(kin: Kinematics, body) -> tuple[tuple, tuple]:
     """(R, t) with x_parent = R x_body + t."""
     R_q, t_q = body.joint.motion()
-    P = body.placement
-    R = kin.sub.add_matrix(matmul(P.rotation, R_q))
-    return R, kin.sub.add_matrix(P.translation + matmul(P.rotation, t_q))
+    R_P = vector(body.placement.rotation)
+    R = kin.sub.add_matrix(compose(R_P, vector(R_q)))
+    return R, kin.sub.add_matrix(add(vector(body.placement.translation), apply(R_P, vector(t_q))))
 
 
-def _symmetric(sub, A: sp.Matrix) -> sp.Matrix:
-    S = sp.zeros(3, 3)
+def _symmetric(sub, A: tuple) -> tuple:
+    """The symmetric matrix of A's upper triangle, each entry named."""
+    S = [None] * 9
     for i in range(3):
         for j in range(i, 3):
-            S[i, j] = S[j, i] = sub.add(A[i, j])
-    return S
+            S[3 * i + j] = S[3 * j + i] = sub.add(A[3 * i + j])
+    return tuple(S)
