@@ -61,13 +61,13 @@ def test_no_python_headers_is_a_clear_error(monkeypatch, tmp_path):
         eg.codegen(eom, backend="c")
 
 
-def test_ur5_operation_counts_and_nonlinear_effects():
+def test_ur5_operation_counts_and_nonlinear_effects(generated):
     """ur5 with numeric parameters: M in at most 250 multiplications, b + g (one pass) in at most 350;
     nle = Pinocchio's nonLinearEffects."""
     import pinocchio as pin
 
     system = eg.robots.load("ur5")
-    f = eg.codegen(eg.derive(system, method="recursive"))
+    f = generated("ur5", "recursive", "numpy")
     assert f.multiplications["M"] <= 250 and f.multiplications["nle"] <= 350, f.multiplications
     model = system.pinocchio_model
     data = model.createData()
