@@ -16,9 +16,7 @@ def test_the_list_is_complete():
 
 
 @pytest.mark.filterwarnings("ignore:body")  # some files carry inertias Pinocchio takes as they are
-# icub (the longest of them) under -m slow: icub_reduced, the same robot with fewer joints, stays in the
-# default run
-@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "icub" else n for n in FLOATING])
+@pytest.mark.parametrize("name", FLOATING)
 def test_recursive_equals_pinocchio(name):
     """M, b, g, foot / hand Jacobians and J̇u at 20 random states with random base orientations and
     twists, relative 1e-10."""

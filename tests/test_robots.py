@@ -27,10 +27,7 @@ def test_the_list_is_complete():
     assert sorted(FIXED_BASE) == eg.robots.names(floating_base=False)
 
 
-# tiago_dual (the longest of them) under -m slow: its arms are tiago's, which tiago, tiago_pro and
-# tiago_no_hand check in the default run
-@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "tiago_dual" else n
-                                  for n in FIXED_BASE])
+@pytest.mark.parametrize("name", FIXED_BASE)
 def test_projected_newton_euler_equals_pinocchio(name):
     """M, b, g and the Jacobians and J̇u of the end frames at 20 random states (relative 1e-10)."""
     report = verify(eg.robots.load(name), states=20, seed=1)
