@@ -34,14 +34,6 @@ COMMON = dict(deadline=None, derandomize=True, database=None, print_blob=True, p
 SLOW = 2000
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _cache(tmp_path_factory):
-    """Compiled extensions go to a temp folder of this run, not ~/.cache."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("EOMGEN_CACHE", str(tmp_path_factory.mktemp("eomgen_cache")))
-        yield
-
-
 def states(tree, n: int, seed: int = 0):
     rng = np.random.default_rng(seed)
     return [S.random_state(tree, rng) for _ in range(n)]
