@@ -96,14 +96,14 @@ def test_without_stiffening_the_link_softens_and_diverges():
 def test_spin_up_stays_bounded_with_stiffening_and_diverges_without():
     """Kane, Ryan and Banerjee's spin-up (benchmarks/spin_up.py, 2 elements; its table converges with
     the element count): the stiffened link's tip deflection peaks below 1 m during the 15 s ramp to
-    6 rad/s and dies out in the steady spin; without stiffening it exceeds the link's length."""
+    6 rad/s and dies out in the steady spin; without stiffening it exceeds the link's length within 12 s."""
     sys.path.insert(0, str(Path(__file__).parents[1] / "benchmarks"))
     from spin_up import L, spin_up
 
     t, w = spin_up(2, True, 30.0)
     assert 0.3 < np.abs(w).max() < 1.0 and np.abs(w[t > 25]).max() < 0.05
     try:
-        t, w = spin_up(2, False, 30.0)
+        t, w = spin_up(2, False, 12.0)  # past L at 9.2 s, 1e41 m at 30 s
         assert np.abs(w).max() > L
     except eg.ModelError as failure:  # the integrator gave up as the deflection grew
         assert "integrator" in str(failure)
