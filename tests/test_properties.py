@@ -175,8 +175,9 @@ FRAMES
 
 
 def run_write_c(eom, folder, pairs, n_frames: int) -> np.ndarray:
-    """M, b, g and the frames' J from the plain C of write_c, compiled with cc and a driver."""
-    c_path, h_path = eg.write_c(eom, folder, name="eom")
+    """M, b, g and the frames' J from the plain C of write_c, compiled with cc and a driver (without the
+    derivatives, the largest functions, which test_derivatives compiles and checks)."""
+    c_path, h_path = eg.write_c(eom, folder, name="eom", derivatives=False)
     nq, nv = len(eom.q), len(eom.u)
     frames = "".join(f"        memset(J, 0, sizeof J); eom_J_{k}(q, u, ud, p, J);\n"
                      f"        for (int i = 0; i < 6 * NV; i++) printf(\"%.17g \", J[i]);\n" for k in range(n_frames))
