@@ -1,6 +1,5 @@
 """What the tests of one run share: one C extension cache for every worker (each module compiled once per
-run), the robots' equations and generated functions, derived once per worker, and a test file's
-module-scoped fixtures and cached builders, made once per run (its tests kept on one worker)."""
+run), and the robots' equations and generated functions, derived once per worker."""
 from __future__ import annotations
 
 import functools
@@ -26,22 +25,6 @@ def eomgen_cache(tmp_path_factory) -> str:
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("EOMGEN_CACHE", str(folder))
         yield str(folder)
-
-
-def _keeps_state(item: pytest.Item) -> bool:
-    """Whether `item` uses a module-scoped fixture or its file has a functools cache of its own."""
-    scopes = (defs[-1].scope for defs in item._fixtureinfo.name2fixturedefs.values())
-    cached = (v for v in vars(item.module).values() if hasattr(v, "cache_info"))
-    return "module" in scopes or any(f.__module__ == item.module.__name__ for f in cached)
-
-
-@pytest.hookimpl(tryfirst=True)  # before pytest-xdist reads the groups
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """The tests of a file that keeps state between them form one group (pytest-xdist's --dist loadgroup
-    sends a group to one worker), so its fixtures and caches are built once, not once per worker."""
-    for item in items:
-        if isinstance(item, pytest.Function) and _keeps_state(item):
-            item.add_marker(pytest.mark.xdist_group(item.module.__name__))
 
 
 def load(name: str, **options) -> eg.System:
