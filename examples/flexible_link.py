@@ -23,10 +23,11 @@ def flexible_link(elements: int = 1, EI_value=EI) -> eg.System:
     return system
 
 
-def simulate(EI_value: float = 50.0, seconds: float = 3.0, elements: int = 1):
-    """Released at rest from the horizontal, undeformed; returns the solution and the energy T + U."""
+def simulate(EI_value: float = 50.0, seconds: float = 3.0, elements: int = 1, backend: str = "numpy"):
+    """Released at rest from the horizontal, undeformed; returns the solution and the energy T + U
+    (backend: eg.codegen's, "c" for the compiled functions)."""
     system = flexible_link(elements, EI_value)
-    f = eg.codegen(eg.derive(system, method="lagrange"))
+    f = eg.codegen(eg.derive(system, method="lagrange"), backend=backend)
     n = system.nv
 
     def rhs(t, x):

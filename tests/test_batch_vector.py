@@ -21,14 +21,11 @@ SIZES = [1, 3, 5, 7, 9, 17, 1000]  # W - 1 and W + 1 for W = 2, 4, 8; a partial 
 
 
 @pytest.fixture(scope="module")
-def ur5(tmp_path_factory):
+def ur5(generated):
     system = eg.robots.load("ur5")
-    eom = eg.derive(system, method="recursive")
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("EOMGEN_CACHE", str(tmp_path_factory.mktemp("cache")))
-        fc = eg.codegen(eom, backend="c")
-        fc.M(np.zeros((2, 6)))  # the first batch builds the vector functions, in this cache too
-        return system, fc, eg.codegen(eom)
+    fc = generated("ur5", "recursive", "c")  # shared by the worker's tests, in the run's cache
+    fc.M(np.zeros((2, 6)))  # the first batch builds the vector functions
+    return system, fc, generated("ur5", "recursive", "numpy")
 
 
 def pinocchio(system, q, u) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -45,12 +42,11 @@ def pinocchio(system, q, u) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 @pytest.mark.parametrize("name", ["ur5", "solo12"])
-def test_batches_equal_pinocchio_and_the_per_call_path(name, ur5, tmp_path, monkeypatch):
+def test_batches_equal_pinocchio_and_the_per_call_path(name, ur5, generated):
     """Every batch size: M, nle, g = Pinocchio per state (1e-10), = the scalar one-state call (1e-12
     relative), b = nle - g."""
-    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
-    system, fc = (ur5[0], ur5[1]) if name == "ur5" else (eg.robots.load(name), None)
-    fc = fc or eg.codegen(eg.derive(system, method="recursive"), backend="c")
+    system = ur5[0] if name == "ur5" else eg.robots.load(name)
+    fc = ur5[1] if name == "ur5" else generated(name, "recursive", "c")
     q, u, _ = eg.random_states(system, max(SIZES), np.random.default_rng(31))
     M, nle, g = pinocchio(system, q, u)
     for n in SIZES:
@@ -224,10 +220,9 @@ def test_vector_functions_are_built_on_the_first_batch_for_this_machine(tmp_path
     assert modules() == 4
 
 
-def test_inverse_dynamics_derivatives_in_batches(ur5, tmp_path, monkeypatch):
+def test_inverse_dynamics_derivatives_in_batches(ur5):
     """∂τ/∂q, ∂τ/∂u of 17 states at once (vector registers) = Pinocchio's computeRNEADerivatives
     per state (1e-9) and = each state alone (1e-12 relative)."""
-    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
     system, fc, _ = ur5
     q, u, ud = eg.random_states(system, 17, np.random.default_rng(35))
     dq, du = fc.inverse_dynamics_derivatives(q, u, ud)

@@ -24,7 +24,10 @@ def cut(monkeypatch, tmp_path, segment: int, unit: int) -> None:
     monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
 
 
-@pytest.mark.parametrize("name,method", [("ur5", "recursive"), ("panda", "projected_newton_euler")])
+# panda (the longest build of the run) under -m slow: ur5 here and test_any_cut_gives_the_numpy_numbers
+# prove the split build in the default run
+@pytest.mark.parametrize("name,method", [("ur5", "recursive"),
+                                         pytest.param("panda", "projected_newton_euler", marks=pytest.mark.slow)])
 def test_split_build_equals_pinocchio_and_numpy(name, method, tmp_path, monkeypatch):
     cut(monkeypatch, tmp_path, segment=40, unit=4000)
     system = eg.robots.load(name)

@@ -1,4 +1,6 @@
 """The C backend: the same functions compiled, equal to NumPy and Pinocchio, deterministic source."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -10,18 +12,16 @@ from models import close
 
 @pytest.mark.parametrize("name,method", [("ur5", "recursive"), ("panda", "projected_newton_euler"),
                                          ("solo12", "recursive")])
-def test_c_equals_numpy_and_pinocchio(name, method, tmp_path, monkeypatch):
-    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
+def test_c_equals_numpy_and_pinocchio(name, method, generated, eomgen_cache):
     system = eg.robots.load(name)
-    eom = eg.derive(system, method=method)
-    fc, fn = eg.codegen(eom, backend="c"), eg.codegen(eom)
+    fc, fn = generated(name, method, "c"), generated(name, method, "numpy")
     q, u, _ = eg.random_states(system, 50, np.random.default_rng(13))
     for key, c, py in [("M", fc.M(q), fn.M(q)), ("b", fc.b(q, u), fn.b(q, u)), ("g", fc.g(q), fn.g(q))]:
         np.testing.assert_allclose(c, py, rtol=1e-12, atol=1e-12, err_msg=key)
     np.testing.assert_allclose(fc.M(q[0]), fn.M(q[0]), rtol=1e-12, atol=1e-12)
     report = verify(system, method=method, backend="c", states=10)
     assert report.ok(1e-10), str(report)
-    assert any(tmp_path.glob("eomgen_*.so"))  # compiled once, cached
+    assert any(Path(eomgen_cache).glob("eomgen_*.so"))  # compiled once, in the run's cache
 
 
 def test_write_c_is_deterministic_and_compiles(tmp_path):
@@ -61,13 +61,13 @@ def test_no_python_headers_is_a_clear_error(monkeypatch, tmp_path):
         eg.codegen(eom, backend="c")
 
 
-def test_ur5_operation_counts_and_nonlinear_effects():
+def test_ur5_operation_counts_and_nonlinear_effects(generated):
     """ur5 with numeric parameters: M in at most 250 multiplications, b + g (one pass) in at most 350;
     nle = Pinocchio's nonLinearEffects."""
     import pinocchio as pin
 
     system = eg.robots.load("ur5")
-    f = eg.codegen(eg.derive(system, method="recursive"))
+    f = generated("ur5", "recursive", "numpy")
     assert f.multiplications["M"] <= 250 and f.multiplications["nle"] <= 350, f.multiplications
     model = system.pinocchio_model
     data = model.createData()
@@ -174,7 +174,6 @@ def test_every_robot_compiled(name, tmp_path, monkeypatch):
 def test_example_runs(tmp_path, capsys):
     import runpy
     import sys
-    from pathlib import Path
 
     argv = sys.argv
     sys.argv = ["compiled_robot.py", str(tmp_path / "ur5_c")]
@@ -217,13 +216,11 @@ def test_the_whole_function_set_compiled(tmp_path, monkeypatch):
         np.testing.assert_allclose(c, py, rtol=1e-10, atol=1e-10)
 
 
-def test_large_batches_run_over_the_cores(tmp_path, monkeypatch):
+def test_large_batches_run_over_the_cores(generated):
     """Batches of 16 blocks and more go over the cores (OpenMP): the same numbers as NumPy, last and
     partial block included."""
-    monkeypatch.setenv("EOMGEN_CACHE", str(tmp_path))
     system = eg.robots.load("panda")
-    eom = eg.derive(system, method="recursive")
-    fc, fn = eg.codegen(eom, backend="c"), eg.codegen(eom)
+    fc, fn = generated("panda", "recursive", "c"), generated("panda", "recursive", "numpy")
     q, u, _ = eg.random_states(system, 64 * 40 + 7, np.random.default_rng(28))
     for c, py in [(fc.M(q), fn.M(q)), (fc.b(q, u), fn.b(q, u)), (fc.nle(q, u), fn.nle(q, u))]:
         np.testing.assert_allclose(c, py, rtol=1e-12, atol=1e-12)

@@ -70,11 +70,11 @@ def load(name: str) -> eg.System:
         pytest.param("talos", "recursive", "numpy", marks=pytest.mark.slow),
     ],
 )
-def test_robots_equal_pinocchio(name, method, backend):
+def test_robots_equal_pinocchio(name, method, backend, generated):
     """At 3 random states and efforts (talos: armature; solo12: a quaternion free flyer; panda: the inverse
     dynamics by the recursion on the kinematics of another method); batched states equal single ones."""
     system = load(name)
-    f = eg.codegen(eg.derive(system, method=method), backend=backend)
+    f = generated(name, method, backend)
     model = to_pinocchio(system)
     data = model.createData()
     rng = np.random.default_rng(7)
@@ -396,9 +396,9 @@ def test_flexible_link_from_the_compact_forms():
         close(x, y, 1e-8, what)
 
 
-def test_bad_calls_are_refused():
+def test_bad_calls_are_refused(generated):
     system = eg.robots.load("ur5")
-    f = eg.codegen(eg.derive(system, method="recursive"))
+    f = generated("ur5", "recursive", "numpy")  # its derivatives built once per worker
     q, u, ud = (x[0] for x in eg.random_states(system, 1, np.random.default_rng(0)))
     with pytest.raises(eg.ModelError, match=r"u: expected shape \(6,\), got \(5,\)"):
         f.inverse_dynamics(q, u[:5], ud)
@@ -446,7 +446,7 @@ def test_bad_calls_are_refused():
         eg.codegen(eg.derive(beam, method="lagrange", quantities=("g",))).inverse_dynamics(
             np.zeros(3), np.zeros(3), np.zeros(3)
         )
-    fc = eg.codegen(eg.derive(system, method="recursive"), backend="c")
+    fc = generated("ur5", "recursive", "c")
     with pytest.raises(eg.ModelError, match=r"tau: expected shape \(6,\)"):
         fc.forward_dynamics_derivatives(q, u, np.ones(5))
     with pytest.raises(ValueError, match=r"u: expected shape \(6,\)"):

@@ -34,14 +34,6 @@ COMMON = dict(deadline=None, derandomize=True, database=None, print_blob=True, p
 SLOW = 2000
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _cache(tmp_path_factory):
-    """Compiled extensions go to a temp folder of this run, not ~/.cache."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("EOMGEN_CACHE", str(tmp_path_factory.mktemp("eomgen_cache")))
-        yield
-
-
 def states(tree, n: int, seed: int = 0):
     rng = np.random.default_rng(seed)
     return [S.random_state(tree, rng) for _ in range(n)]
@@ -52,10 +44,13 @@ def frame_names(tree) -> list[str]:
 
 
 # --- (a) against Pinocchio --------------------------------------------------------------------
-def check_pinocchio(tree, method: str) -> None:
-    system = S.eomgen_system(tree)
+def equations(tree, method: str) -> eg.EquationsOfMotion:
+    return eg.derive(S.eomgen_system(tree), method=method)
+
+
+def check_pinocchio(tree, eom: eg.EquationsOfMotion) -> None:
     ref = S.PinocchioTree(tree)
-    f = eg.codegen(eg.derive(system, method=method))
+    f = eg.codegen(eom)
     for k, (q, u) in enumerate(states(tree, 5, seed=len(tree.bodies))):
         M, b, g = ref.dynamics(q, u)
         close(f.M(q), M, 1e-9, f"M, state {k}")
@@ -74,14 +69,14 @@ def check_pinocchio(tree, method: str) -> None:
 @settings(max_examples=50, **COMMON)  # more: the slow _many variant
 @given(tree=S.trees(), method=st.sampled_from(METHODS))
 def test_equals_pinocchio(tree, method):
-    check_pinocchio(tree, method)
+    check_pinocchio(tree, equations(tree, method))
 
 
 @pytest.mark.slow
 @settings(max_examples=SLOW, **COMMON)
 @given(tree=S.trees(), method=st.sampled_from(METHODS))
 def test_equals_pinocchio_many(tree, method):
-    check_pinocchio(tree, method)
+    check_pinocchio(tree, equations(tree, method))
 
 
 # --- (c) the methods agree --------------------------------------------------------------------
@@ -122,10 +117,8 @@ def import_written_module(eom, folder, tag: str):
     return module
 
 
-def check_numpy_and_module(tree, method: str, folder, tag: str) -> None:
-    system = S.eomgen_system(tree)
-    eom = eg.derive(system, method=method)
-    f = eg.codegen(eom)
+def check_numpy_and_module(tree, eom: eg.EquationsOfMotion, folder, tag: str) -> None:
+    system, f = eom.system, eg.codegen(eom)
     mod = import_written_module(eom, folder, tag)
     moving = [b.name for b, s in zip(system.bodies, tree.bodies) if s.kind != "fixed"]
     assert list(mod.FRAMES) == moving + [fr.name for fr in tree.frames]
@@ -147,7 +140,7 @@ def check_numpy_and_module(tree, method: str, folder, tag: str) -> None:
 @given(tree=S.trees(), method=st.sampled_from(METHODS))
 def test_numpy_and_written_module_agree(tree, method, tmp_path_factory):
     folder = tmp_path_factory.mktemp("module")
-    check_numpy_and_module(tree, method, folder, folder.name)
+    check_numpy_and_module(tree, equations(tree, method), folder, folder.name)
 
 
 @pytest.mark.slow
@@ -155,7 +148,7 @@ def test_numpy_and_written_module_agree(tree, method, tmp_path_factory):
 @given(tree=S.trees(), method=st.sampled_from(METHODS))
 def test_numpy_and_written_module_agree_many(tree, method, tmp_path_factory):
     folder = tmp_path_factory.mktemp("module")
-    check_numpy_and_module(tree, method, folder, folder.name)
+    check_numpy_and_module(tree, equations(tree, method), folder, folder.name)
 
 
 DRIVER = r"""#include <stdio.h>
@@ -182,8 +175,9 @@ FRAMES
 
 
 def run_write_c(eom, folder, pairs, n_frames: int) -> np.ndarray:
-    """M, b, g and the frames' J from the plain C of write_c, compiled with cc and a driver."""
-    c_path, h_path = eg.write_c(eom, folder, name="eom")
+    """M, b, g and the frames' J from the plain C of write_c, compiled with cc and a driver (without the
+    derivatives, the largest functions, which test_derivatives compiles and checks)."""
+    c_path, h_path = eg.write_c(eom, folder, name="eom", derivatives=False)
     nq, nv = len(eom.q), len(eom.u)
     frames = "".join(f"        memset(J, 0, sizeof J); eom_J_{k}(q, u, ud, p, J);\n"
                      f"        for (int i = 0; i < 6 * NV; i++) printf(\"%.17g \", J[i]);\n" for k in range(n_frames))
@@ -199,10 +193,8 @@ def run_write_c(eom, folder, pairs, n_frames: int) -> np.ndarray:
     return np.array([[float(x) for x in line.split()] for line in run.stdout.splitlines()])
 
 
-def check_compiled(tree, method: str, folder) -> None:
-    system = S.eomgen_system(tree)
-    eom = eg.derive(system, method=method)
-    f, fc = eg.codegen(eom), eg.codegen(eom, backend="c")
+def check_compiled(tree, eom: eg.EquationsOfMotion, folder) -> None:
+    system, f, fc = eom.system, eg.codegen(eom), eg.codegen(eom, backend="c")
     pairs = states(tree, 4, seed=3)
     qs, us = np.array([q for q, _ in pairs]), np.array([u for _, u in pairs])
     nv = len(system.u)
@@ -236,14 +228,14 @@ def check_compiled(tree, method: str, folder) -> None:
 @settings(max_examples=3, **COMMON)
 @given(tree=S.trees(max_bodies=4), method=st.sampled_from(METHODS))
 def test_compiled_outputs_agree(tree, method, tmp_path_factory):
-    check_compiled(tree, method, tmp_path_factory.mktemp("c"))
+    check_compiled(tree, equations(tree, method), tmp_path_factory.mktemp("c"))
 
 
 @pytest.mark.slow
 @settings(max_examples=200, **COMMON)
 @given(tree=S.trees(), method=st.sampled_from(METHODS))
 def test_compiled_outputs_agree_many(tree, method, tmp_path_factory):
-    check_compiled(tree, method, tmp_path_factory.mktemp("c"))
+    check_compiled(tree, equations(tree, method), tmp_path_factory.mktemp("c"))
 
 
 # --- plain names: the numbers alone, so a name bug cannot hide a numeric one -------------------
@@ -261,7 +253,7 @@ def plain(tree):
 @settings(max_examples=15, **COMMON)
 @given(tree=S.trees().map(plain), method=st.sampled_from(METHODS))
 def test_equals_pinocchio_plain_names(tree, method):
-    check_pinocchio(tree, method)
+    check_pinocchio(tree, equations(tree, method))
 
 
 # --- every joint type at once, through every output ------------------------------------------
@@ -289,8 +281,10 @@ def every_joint() -> S.Tree:
 
 def test_every_joint_type_through_every_output(tmp_path):
     """Pinocchio's joint models (its own API), then NumPy, the written module, the C extension and
-    write_c on one chain that holds every joint type (the other methods: the random trees above)."""
-    tree, method = every_joint(), "recursive"
-    check_pinocchio(tree, method)
-    check_numpy_and_module(tree, method, tmp_path, f"every_{method}")
-    check_compiled(tree, method, tmp_path)
+    write_c on one chain that holds every joint type (the other methods: the random trees above); derived
+    once for the three."""
+    tree = every_joint()
+    eom = equations(tree, "recursive")
+    check_pinocchio(tree, eom)
+    check_numpy_and_module(tree, eom, tmp_path, "every_recursive")
+    check_compiled(tree, eom, tmp_path)
