@@ -3,7 +3,7 @@ operations, evaluation time per state (batched NumPy, and C when a C compiler is
 M, b, g, u̇ and RMS error of u̇ against the full float64 model. Prints the tables, writes JSON and a
 Pareto plot per robot.
 
-The closed-form levels (nothing shared, sympy CSE, trigsimp) need the closed forms of M, b, g: for
+The closed-form levels (nothing shared, CSE, trigsimp) need the closed forms of M, b, g: for
 ur5 b alone has ~1.3e5 operations closed; talos's closed forms are too large to form, so talos gets
 the other variants only. The flexible arm (a flexible link of 2 elements carrying a rigid link) gets the
 rows "no stiffening" and "k modes of each field" for k = 1, 2, 4 (4 = all: the full model in modal
