@@ -92,8 +92,7 @@ def tradeoff(system: System, states: int = 200, seed: int = 0, mass_fraction: fl
     if lock is None and system.nv > 1 and not system.floating_base and len(last.coordinates) == 1:
         lock = {system.joints[-1].name: 0.0}
     flexible = [j for j in system.joints if isinstance(j, FlexibleLink)]
-    modes = [k for k in modes if flexible and all(j.shapes is None and  # (a modal link: no further rows)
-                                                  k <= j.elements * (1 if "x" in j.fields else 2)
+    modes = [k for k in modes if flexible and all(j.shapes is None and k <= j.most_modes  # (modal: none)
                                                   for j in flexible)]
     runs = _variants(system, states, seed, mass_fraction, inertia_fraction, lock, levels, trig_max_ops, c,
                      modes)

@@ -36,7 +36,7 @@ from ..kinematics import Kinematics
 from ..linalg import dot
 from ..model import FlexibleLink
 from ..model.beam import coefficients, integrals, quadratic
-from ..model.joints import rotation_about
+from ..model.flexible_link import section_turn
 
 
 def _integral(a: list, b: list, h) -> sp.Expr:
@@ -82,24 +82,20 @@ def _axial(kin: Kinematics, joint, e: int, fields: dict, start) -> tuple[list, l
     return [e * h + u_x[0], 1 + u_x[1], *u_x[2:]], u_x_dot
 
 
-_angles = sp.symbols("a b c a_dot b_dot c_dot")  # the section's turn and its rates (placeholders)
+_angles = sp.symbols("y_s z_s phi y_s_dot z_s_dot phi_dot")  # a section's y', z', φ and rates (placeholders)
 _Omega = sp.symbols("Omega_x Omega_y Omega_z")
 
 
 @cache
 def _section_rates() -> list[sp.Poly]:
-    """ω_s = Dᵀ Ω + ω_D, the angular velocity of a cross-section in its own axes, turned from the link
-    frame by D = R_z(a) R_y(b) R_x(c) (a = y', b = −z', c = φ): ω_D = R_x(c)ᵀ R_y(b)ᵀ ȧ e_z + R_x(c)ᵀ ḃ e_y
-    + ċ e_x; to second order in the turn and its rates (the centrifugal and gyroscopic terms of the
-    sections' inertia: the propeller moment of a spinning twisted link, the flapwise softening), as
-    polynomials in the placeholders."""
-    a, b, c, a_dot, b_dot, c_dot = _angles
-    e = sp.Symbol("e")
-    D = rotation_about(sp.Matrix([0, 0, 1]), a) * rotation_about(sp.Matrix([0, 1, 0]), b) \
-        * rotation_about(sp.Matrix([1, 0, 0]), c)
-    Rx, Ry = rotation_about(sp.Matrix([1, 0, 0]), c), rotation_about(sp.Matrix([0, 1, 0]), b)
-    w = D.T * sp.Matrix(_Omega) + Rx.T * Ry.T * sp.Matrix([0, 0, a_dot]) + Rx.T * sp.Matrix([0, b_dot, 0]) \
-        + sp.Matrix([c_dot, 0, 0])
+    """ω_s = Dᵀ Ω + vee(Dᵀ Ḋ), the angular velocity of a cross-section in its own axes, turned from the
+    link frame by D = `section_turn`(y', z', φ); to second order in the turn and its rates (the
+    centrifugal and gyroscopic terms of the sections' inertia: the propeller moment of a spinning
+    twisted link, the flapwise softening), as polynomials in the placeholders."""
+    turn, rates, e = _angles[:3], _angles[3:], sp.Symbol("e")
+    D = section_turn(*turn)
+    W = D.T * sum((D.diff(x) * x_dot for x, x_dot in zip(turn, rates)), sp.zeros(3, 3))
+    w = D.T * sp.Matrix(_Omega) + sp.Matrix([W[2, 1], W[0, 2], W[1, 0]])
     small = {x: e * x for x in _angles}
     return [sp.Poly(sp.series(x.xreplace(small), e, 0, 3).removeO().subs(e, 1), *_angles) for x in w]
 
@@ -109,7 +105,7 @@ def _turning(fields: dict, Omega) -> list[list[sp.Expr]]:
     velocity in its axes."""
     empty = ([], [])
     y, z, x = (fields.get(f, empty) for f in ("y", "z", "x"))
-    angles = [_slope(y[0]), [-v for v in _slope(z[0])], x[0], _slope(y[1]), [-v for v in _slope(z[1])], x[1]]
+    angles = [_slope(y[0]), _slope(z[0]), x[0], _slope(y[1]), _slope(z[1]), x[1]]
     values = dict(zip(_Omega, Omega))
     components = []
     for w in _section_rates():

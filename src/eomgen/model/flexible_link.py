@@ -21,6 +21,12 @@ NODAL = {"y": lambda n: [(kind, k) for k in range(2, n + 2) for kind in ("w", "s
 MODAL = {"y": "eta", "z": "etaz", "x": "etax"}  # the amplitudes' names with modes
 
 
+def section_turn(y_slope, z_slope, twist) -> sp.Matrix:
+    """D = R_z(y') R_y(−z') R_x(φ): how a cross-section (and the tip) is turned from the link frame."""
+    return rotation_about(sp.Matrix([0, 0, 1]), y_slope) * rotation_about(sp.Matrix([0, 1, 0]), -z_slope) \
+        * rotation_about(sp.Matrix([1, 0, 0]), twist)
+
+
 class FlexibleLink(Joint):
     """A flexible link on a revolute joint about its z axis: an Euler-Bernoulli beam of length L
     along the body's x axis, mass per length m and bending stiffness E I, deflecting along y, split
@@ -104,7 +110,7 @@ class FlexibleLink(Joint):
     def _modes(self, k) -> np.ndarray:
         """Φ of the first k modes of each field (block diagonal), refusing a k out of 1 … 2n (n for
         torsion) or a symbolic m, E I, L, GJ, ρI_x."""
-        top = self.elements * (1 if "x" in self.fields else 2)
+        top = self.most_modes
         if not isinstance(k, int) or isinstance(k, bool) or not 1 <= k <= top:
             raise ModelError(f"joint '{self.name}': modes must be an integer from 1 to {top} (the nodal "
                              f"coordinates of {'the twist' if top == self.elements else 'a bending plane'}), "
@@ -122,6 +128,11 @@ class FlexibleLink(Joint):
                    "x": (section[0], 0)}
         return sla.block_diag(*[clamped_modes(self.length, inertia[f][0], self.stiffness[f], self.elements, k,
                                               DOFS[f], inertia[f][1])[0] for f in self.fields])
+
+    @property
+    def most_modes(self) -> int:
+        """The largest `modes`: the nodal coordinates of a field, 2n (bending) or n (with the twist)."""
+        return self.elements * (1 if "x" in self.fields else 2)
 
     def constants(self) -> dict[str, sp.Expr]:
         extra = {label: value for label, value in (("EI_y", self.EI_y), ("GJ", self.GJ)) if value is not None}
@@ -169,14 +180,8 @@ class FlexibleLink(Joint):
         """(R, t) of the tip frame in the link frame: at (L + u_x(L), y_tip, z_tip), turned by
         R_z(y'_tip) R_y(−z'_tip) R_x(φ_tip) (the slopes and the twist; the fields absent: 0)."""
         tip = {field: d[-DOFS[field]:] for field, d in self.deflections().items()}
-        y, y_slope = tip["y"]
-        z, z_slope = tip.get("z", (0, 0))
-        R = rotation_about(self.axis, y_slope)
-        if "z" in tip:
-            R = R * rotation_about(sp.Matrix([0, 1, 0]), -z_slope)
-        if "x" in tip:
-            R = R * rotation_about(sp.Matrix([1, 0, 0]), tip["x"][0])
-        return R, sp.Matrix([self.length + self.foreshortening(), y, z])
+        (y, y_slope), (z, z_slope), (twist,) = tip["y"], tip.get("z", (0, 0)), tip.get("x", (0,))
+        return section_turn(y_slope, z_slope, twist), sp.Matrix([self.length + self.foreshortening(), y, z])
 
     @property
     def efforts(self) -> int:
