@@ -5,8 +5,8 @@ Computed once per system and shared by every method. Every quantity is kept as n
 a body twist's speeds): the general `time_derivative` (d/dt f(q) = Σ_k ∂f/∂q_k q̇_k, through the
 intermediates) and, for J̇ u, the same rule applied along the tree (ė = Ω × e for a vector fixed in a
 body), which costs O(n) instead of O(n²) per body; a test checks the two against each other.
-Inside, 3-vectors and rotations are tuples of scalars (`linalg`); what the methods read is an `sp.Matrix`,
-converted once per quantity."""
+Inside, 3-vectors and rotations are tuples of the engine's scalars (`linalg`, `engine`: sympy or
+symengine); what the methods read is an `sp.Matrix` of sympy expressions, converted once per quantity."""
 from __future__ import annotations
 
 import sympy as sp
@@ -14,8 +14,7 @@ import sympy as sp
 from .constraint_rows import constraint_rows
 from .errors import ModelError
 from .grounded import grounded
-from .linalg import (IDENTITY, ZERO, add, apply, compose, cross, dot, matmul, matrix, scale, subtract, total,
-                     vector)
+from .linalg import IDENTITY, ZERO, add, apply, compose, cross, dot, matmul, scale, subtract, total
 from .model import FlexibleLink, Placement
 from .model.loads import Point
 from .model.system import Body, Frame, System
@@ -28,12 +27,13 @@ TIME = "t"
 class Kinematics:
     """World-frame kinematics of every body of `system`, as named sub-results in `self.sub`."""
 
-    def __init__(self, system: System) -> None:
+    def __init__(self, system: System, engine: str | None = None) -> None:
         self.system = system
         self.version = system.version  # the model these kinematics describe
         self.q, self.u = list(system.q), list(system.u)
         self.n = len(self.u)
-        self.sub = Subexpressions()
+        self.sub = Subexpressions(engine=engine)
+        self._u = self.sub.vector(self.u)
         self.time_seeds = dict(zip(self.q, system.qdot))  # q̇(q, u): u but for a free-flyer base
         for joint in system.prescribed:  # θ, θ̇, θ̈ of t, named: d/dt θ = θ̇, d/dt θ̇ = θ̈
             theta, rate, acceleration = joint.driven
@@ -45,7 +45,8 @@ class Kinematics:
         self._R: dict[Body, tuple] = {}  # R and p as tuples
         self._p: dict[Body, tuple] = {}
         # per body, its joint's motion subspace in world axes: (u index, v of the body origin, ω), tuples
-        self.columns: dict[Body, list[tuple[int, tuple, tuple]]] = {}
+        self._columns: dict[Body, list[tuple[int, tuple, tuple]]] = {}
+        self.columns: dict[Body, list[tuple[int, tuple, tuple]]] = {}  # the same in sympy
         self._axes: dict[Body, tuple] = {}  # the axes the joint's S and bias are written in
         self.chain: dict[Body, list[Body]] = {}  # the moving joints from the root to the body
         self.on_tip: dict[Body, str] = {}  # bodies beyond a flexible link: the link's joint
@@ -56,40 +57,44 @@ class Kinematics:
     def _place(self, body: Body) -> None:
         """R, p of the body, and its joint's columns: S in world axes (through R_joint where the joint
         gives S in joint axes, else through R of the body)."""
-        parent, joint, add_all = body.parent, body.joint, self.sub.add_matrix
+        parent, joint, add_all, e = body.parent, body.joint, self.sub.add_matrix, self.sub.vector
         R_parent = self._R[parent] if parent else IDENTITY
         p_parent = self._p[parent] if parent else ZERO
         if parent is not None and (isinstance(parent.joint, FlexibleLink) or parent in self.on_tip):
             self.on_tip[body] = self.on_tip.get(parent, parent.joint.name)
         if parent is not None and isinstance(parent.joint, FlexibleLink):  # children sit on the tip
             R_tip, t_tip = parent.joint.tip()
-            p_parent = add(p_parent, apply(R_parent, vector(t_tip)))
-            R_parent = add_all(compose(R_parent, vector(R_tip)))
-        R_joint = add_all(compose(R_parent, vector(body.placement.rotation)))
-        p_joint = add(p_parent, apply(R_parent, vector(body.placement.translation)))
+            p_parent = add(p_parent, apply(R_parent, e(t_tip)))
+            R_parent = add_all(compose(R_parent, e(R_tip)))
+        R_joint = add_all(compose(R_parent, e(body.placement.rotation)))
+        p_joint = add(p_parent, apply(R_parent, e(body.placement.translation)))
         R_q, t_q = joint.motion()
-        R = self._R[body] = add_all(compose(R_joint, vector(R_q)))
-        p = self._p[body] = add_all(add(p_joint, apply(R_joint, vector(t_q))))
-        self.R[body], self.p[body] = matrix(R, 3), matrix(p)
+        R = self._R[body] = add_all(compose(R_joint, e(R_q)))
+        p = self._p[body] = add_all(add(p_joint, apply(R_joint, e(t_q))))
+        self.R[body], self.p[body] = self.sub.matrix(R, 3), self.sub.matrix(p)
         S = joint.joint_frame_subspace()
         axes = self._axes[body] = R_joint if S is not None else R
         S = joint.subspace() if S is None else S
-        self.columns[body] = [(i, add_all(apply(axes, vector(v))), add_all(apply(axes, vector(w))))
-                              for i, (v, w) in zip(body.speed_indices, S)]
-        self.chain[body] = (list(self.chain[parent]) if parent else []) + ([body] if self.columns[body] else [])
+        columns = self._columns[body] = [(i, add_all(apply(axes, e(v))), add_all(apply(axes, e(w))))
+                                         for i, (v, w) in zip(body.speed_indices, S)]
+        self.columns[body] = [(i, tuple(self.sub.matrix(v)), tuple(self.sub.matrix(w)))
+                              for i, v, w in columns]
+        self.chain[body] = (list(self.chain[parent]) if parent else []) + ([body] if columns else [])
 
     # --- positions ---------------------------------------------------------------------------
     def position(self, point: Point) -> sp.Matrix:
         """r = p + R r_local, world coordinates of a point."""
         if point.body is None:
             return point.offset
-        return self._cached(("r", point.body, tuple(point.offset)), lambda: matrix(self._position(point)))
+        return self._cached(("r", point.body, tuple(point.offset)),
+                            lambda: self.sub.matrix(self._position(point)))
 
     def _position(self, point: Point) -> tuple:
         body = point.body
-        return vector(point.offset) if body is None else self._cached(
+        offset = self.sub.vector(point.offset)
+        return offset if body is None else self._cached(
             ("_r", body, tuple(point.offset)),
-            lambda: self.sub.add_matrix(add(self._p[body], apply(self._R[body], vector(point.offset)))))
+            lambda: self.sub.add_matrix(add(self._p[body], apply(self._R[body], offset))))
 
     def com(self, body: Body) -> sp.Matrix:
         """World coordinates of the body's centre of mass."""
@@ -99,18 +104,18 @@ class Kinematics:
         """(R, r) of a named frame in the world."""
         f = self._frame(name)
         R_body = self._R[f.body] if f.body else IDENTITY
-        R = self._cached(("R", name),
-                         lambda: matrix(self.sub.add_matrix(compose(R_body, vector(f.placement.rotation))), 3))
+        R = self._cached(("R", name), lambda: self.sub.matrix(
+            self.sub.add_matrix(compose(R_body, self.sub.vector(f.placement.rotation))), 3))
         return R, self.position(Point(f.body, f.placement.translation))
 
     def inertia_world(self, body: Body) -> sp.Matrix:
         """Θ in world axes: R Θ Rᵀ (about the centre of mass)."""
-        return self._cached(("Theta", body), lambda: matrix(self._inertia_world(body), 3))
+        return self._cached(("Theta", body), lambda: self.sub.matrix(self._inertia_world(body), 3))
 
     def _inertia_world(self, body: Body) -> tuple:
         def build():
             R = self._R[body]
-            RI = compose(R, vector(body.inertia))
+            RI = compose(R, self.sub.vector(body.inertia))
             Theta = [None] * 9
             for i in range(3):
                 for j in range(i, 3):  # symmetric: the upper triangle, mirrored
@@ -136,24 +141,28 @@ class Kinematics:
         def build():
             if point.body is None:
                 return sp.zeros(3, self.n)
-            J, r = [[sp.Integer(0)] * self.n for _ in range(3)], self._position(point)
+            J, r = [[0] * self.n for _ in range(3)], self._position(point)
             for k in self.chain[point.body]:
                 arm = self.sub.add_matrix(subtract(r, self._p[k]))
-                for i, v, w in self.columns[k]:
+                for i, v, w in self._columns[k]:
                     for row, x in enumerate(add(v, self.sub.add_matrix(cross(w, arm)))):
                         J[row][i] += x
-            return sp.Matrix(J)
+            return self._rows(J)
         return self._cached(("J_P", point.body, tuple(point.offset)), build)
 
     def J_R(self, body: Body | None) -> sp.Matrix:
         """Rotational Jacobian: column i is Σ ω_k over the joints on the way whose motion has u_i."""
         self.rigid(body)
-        J = [[sp.Integer(0)] * self.n for _ in range(3)]
+        J = [[0] * self.n for _ in range(3)]
         for k in self.chain.get(body, []):
-            for i, _, w in self.columns[k]:
+            for i, _, w in self._columns[k]:
                 for row, x in enumerate(w):
                     J[row][i] += x
-        return sp.Matrix(J)
+        return self._rows(J)
+
+    def _rows(self, J: list[list]) -> sp.Matrix:
+        """The sympy matrix of a 3 × n list of the engine's scalars."""
+        return self.sub.matrix([x for row in J for x in row], self.n) if self.n else sp.zeros(3, 0)
 
     def jacobian(self, name: str) -> sp.Matrix:
         """6 × n Jacobian [J_P; J_R] of a named frame's origin in world-aligned axes."""
@@ -170,7 +179,7 @@ class Kinematics:
         """Ω = J_R u, built along the chain: Ω_i = Ω_parent + Σ_k ω_k u_k."""
         if body is None:
             return sp.zeros(3, 1)
-        return self._cached(("w", body), lambda: matrix(self._omega(body)))
+        return self._cached(("w", body), lambda: self.sub.matrix(self._omega(body)))
 
     def _omega(self, body: Body | None) -> tuple:
         if body is None:
@@ -186,8 +195,8 @@ class Kinematics:
         """(V, W): the velocity of the body origin and the angular velocity relative to the joint frame,
         world axes, Σ_k (v_k, ω_k) u_k."""
         def build():
-            V = total(scale(self.u[i], v) for i, v, _ in self.columns[body])
-            W = total(scale(self.u[i], w) for i, _, w in self.columns[body])
+            V = total(scale(self._u[i], v) for i, v, _ in self._columns[body])
+            W = total(scale(self._u[i], w) for i, _, w in self._columns[body])
             return self.sub.add_matrix(V), self.sub.add_matrix(W)
         return self._cached(("rel", body), build)
 
@@ -209,7 +218,7 @@ class Kinematics:
             d = self.sub.add_matrix(subtract(self._p[body], self._p[parent] if parent else ZERO))
             a = add(add(a_p, cross(alpha_p, d)), cross(Omega_p, self.sub.add_matrix(cross(Omega_p, d))))
             alpha = alpha_p
-            if self.columns[body]:
+            if self._columns[body]:
                 V, W = self.relative(body)
                 a_rel, alpha_rel = self._joint_bias(body)
                 alpha = add(add(alpha, cross(Omega_p, W)), apply(self._axes[body], alpha_rel))
@@ -221,7 +230,7 @@ class Kinematics:
         """The joint's (a_rel, α_rel) in the axes of its subspace (a mimic's columns are constant: 0)."""
         joint = body.joint
         bias = joint.bias() if joint.joint_frame_subspace() is None else joint.joint_frame_bias()
-        return tuple(self.sub.add_matrix(vector(x)) for x in bias)
+        return tuple(self.sub.add_matrix(self.sub.vector(x)) for x in bias)
 
     def Jdot_u_P(self, point: Point) -> sp.Matrix:
         """J̇_P u: the acceleration of a point when u̇ = 0, a_i + α_i × c + Ω_i × (Ω_i × c), c = r − p_i."""
@@ -232,15 +241,15 @@ class Kinematics:
         def build():
             alpha, a = self._bias(point.body)
             Omega = self._omega(point.body)
-            c = self.sub.add_matrix(apply(self._R[point.body], vector(point.offset)))
-            return matrix(self.sub.add_matrix(add(add(a, cross(alpha, c)),
+            c = self.sub.add_matrix(apply(self._R[point.body], self.sub.vector(point.offset)))
+            return self.sub.matrix(self.sub.add_matrix(add(add(a, cross(alpha, c)),
                                                   cross(Omega, self.sub.add_matrix(cross(Omega, c))))))
         return self._cached(("a", point.body, tuple(point.offset)), build)
 
     def Jdot_u_R(self, body: Body | None) -> sp.Matrix:
         """J̇_R u: the angular acceleration of a body when u̇ = 0."""
         self.rigid(body)
-        return matrix(self._bias(body)[0])
+        return self.sub.matrix(self._bias(body)[0])
 
     def jacobian_dot_u(self, name: str) -> sp.Matrix:
         """6 × 1 J̇ u of a named frame, rows [linear; angular]."""

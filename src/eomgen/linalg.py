@@ -6,18 +6,22 @@ tuple is much cheaper than a `sp.Matrix`, which checks and converts every entry 
 `vector` and `matrix` convert at the boundary. sympy answers `0 * (a + b)` by asking whether a + b is
 finite, which walks the whole expression; robots have many structural zeros (axes, placements,
 Jacobian columns), so the products skip them. `cross` and `scale` take an `sp.Matrix` as well and then
-give one; `matmul` multiplies `sp.Matrix`es of any shape."""
+give one; `matmul` multiplies `sp.Matrix`es of any shape. The scalars are sympy's or the hot core's
+engine's (`engine`); the constants are Python integers, which either engine takes as its own."""
 from __future__ import annotations
 
 from collections.abc import Sequence
 
 import sympy as sp
 
+from .engine import total_of
+
 Vector = tuple  # (x, y, z)
 Matrix3 = tuple  # (A_00, A_01, A_02, A_10, ..., A_22)
 
-ZERO: Vector = (sp.Integer(0),) * 3
-IDENTITY: Matrix3 = tuple(sp.Integer(int(i == j)) for i in range(3) for j in range(3))
+ZEROS = frozenset({0})  # `x in ZEROS` is x == 0 (equal numbers hash equally), without building a 0 to compare
+ZERO: Vector = (0,) * 3
+IDENTITY: Matrix3 = tuple(int(i == j) for i in range(3) for j in range(3))
 
 
 def vector(x: Sequence) -> tuple:
@@ -31,12 +35,12 @@ def matrix(x: Sequence, cols: int = 1) -> sp.Matrix:
 
 
 def mul(a, b) -> sp.Expr:
-    return sp.Integer(0) if a == 0 or b == 0 else a * b
+    return 0 if a in ZEROS or b in ZEROS else a * b
 
 
 def dot(a, b) -> sp.Expr:
     """Σ a_k b_k over the entries of two equally long sequences."""
-    return sp.Add(*[x * y for x, y in zip(a, b) if x != 0 and y != 0])
+    return total_of([x * y for x, y in zip(a, b) if x not in ZEROS and y not in ZEROS])
 
 
 def add(a: Sequence, b: Sequence) -> tuple:
@@ -96,12 +100,12 @@ def outer(a: Vector, b: Vector) -> Matrix3:
 
 def diagonal(s) -> Matrix3:
     """s 1."""
-    return tuple(s * x for x in IDENTITY)
+    return tuple(mul(s, x) for x in IDENTITY)
 
 
-def quadratic_form(A: sp.Matrix, x: Sequence) -> sp.Expr:
-    """xᵀ A x, as x · (A x)."""
-    return dot(x, [dot(row, x) for row in A.tolist()])
+def quadratic_form(A, x: Sequence) -> sp.Expr:
+    """xᵀ A x, as x · (A x), of an `sp.Matrix` or a list of rows."""
+    return dot(x, [dot(row, x) for row in (A.tolist() if isinstance(A, sp.MatrixBase) else A)])
 
 
 def matmul(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:

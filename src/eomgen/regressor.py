@@ -20,7 +20,7 @@ import sympy as sp
 
 from .eom import EquationsOfMotion
 from .errors import ModelError
-from .linalg import add, cross, dot, matmul, matrix
+from .linalg import add, cross, dot, matmul
 from .methods import derive
 from .methods.applied import armature
 from .methods.recursive import Recursion, about_origin, moved
@@ -135,7 +135,7 @@ def _derive(eom: EquationsOfMotion) -> tuple:
     motion = rec.motions(kin.u, list(system.ud), system.gravity)
     Y, T, U, pi, names = [], [], [], [], []
     for link, welded in links(system).items():
-        w, al, a = (matrix(x) for x in motion[link])
+        w, al, a = (sub.matrix(x) for x in motion[link])
         for wrench in _wrenches(w, al, a):
             Y.append(_torques(rec, link, *wrench))
         R = kin.R[link]
@@ -188,8 +188,8 @@ def _wrenches(w: sp.Matrix, al: sp.Matrix, a: sp.Matrix) -> list[tuple[sp.Matrix
 def _torques(rec: Recursion, link, f: sp.Matrix, n: sp.Matrix) -> sp.Matrix:
     """τ of a wrench (f, n) on `link` (its axes, at its origin): τ_k = v_k · f + ω_k · n on every joint
     from the link to the root, the wrench carried to each parent (`Recursion.up`)."""
-    tau, body = sp.zeros(rec.n, 1), link
-    f, n = rec.sub.add_matrix(f), rec.sub.add_matrix(n)
+    tau, body = [0] * rec.n, link
+    f, n = (rec.sub.add_matrix(rec.sub.vector(x)) for x in (f, n))
     while body is not None:
         for i, v, w in rec.S[body]:
             tau[i] += dot(v, f) + dot(w, n)
@@ -197,7 +197,7 @@ def _torques(rec: Recursion, link, f: sp.Matrix, n: sp.Matrix) -> sp.Matrix:
             break
         f, n = rec.up(body, f, n)
         body = body.parent
-    return tau
+    return rec.sub.matrix(tau)
 
 
 def _parameters(link, welded: list) -> list[sp.Expr]:

@@ -18,7 +18,11 @@ from collections.abc import Iterable, Mapping
 
 import sympy as sp
 
+from .engine import Sympy, Symengine, make_engine, se
 from .symbols import Generated
+
+
+TRIG = (sp.sin, sp.cos) + ((se.sin, se.cos) if se is not None else ())
 
 
 def is_trivial(expr: sp.Expr) -> bool:
@@ -27,7 +31,7 @@ def is_trivial(expr: sp.Expr) -> bool:
         return True
     if expr.is_Mul and len(expr.args) == 2 and expr.args[0].is_Number and expr.args[1].is_Atom:
         return True
-    return isinstance(expr, (sp.sin, sp.cos)) and expr.args[0].is_Atom
+    return isinstance(expr, TRIG) and expr.args[0].is_Atom
 
 
 # d f(a) / da of the one-argument functions, given a and f(a)
@@ -50,8 +54,10 @@ def samples(q: Iterable[sp.Symbol], parameters: Iterable[sp.Symbol], count: int)
 class Subexpressions:
     """An ordered set of definitions x_k = e_k, with directional derivatives through them."""
 
-    def __init__(self, prefix: str = "_ξ") -> None:
+    def __init__(self, prefix: str = "_ξ", engine: str | None = "sympy") -> None:
         self.prefix = prefix
+        self.engine: Sympy | Symengine = make_engine(engine)  # the hot core's scalars (`engine`)
+        self._named_engine: dict = {}
         self.definitions: dict[sp.Symbol, sp.Expr] = {}
         self._index: dict[sp.Symbol, int] = {}
         self._named: dict[sp.Expr, sp.Symbol] = {}
@@ -63,14 +69,28 @@ class Subexpressions:
         return len(self.definitions)
 
     def add(self, expr: sp.Expr) -> sp.Expr:
-        """Name `expr` as a new intermediate (unless trivial) and return the name."""
-        expr = sp.sympify(expr)
+        """Name `expr` as a new intermediate (unless trivial) and return the name; an engine scalar
+        is named by its sympy form and answered in the engine (an integer as the engine's)."""
+        if isinstance(expr, int):
+            return self.engine.scalar(sp.Integer(expr))
+        if self.engine.owns(expr):
+            if is_trivial(expr):
+                return expr
+            if expr not in self._named_engine:
+                name = self._name(self.engine.to_sympy(expr), lambda: self.engine.uses(expr))
+                self._named_engine[expr] = self.engine.scalar(name)
+            return self._named_engine[expr]
+        return self._name(sp.sympify(expr))
+
+    def _name(self, expr: sp.Expr, uses=None) -> sp.Expr:
+        """The name of a sympy expression (`add`), `uses` its symbols where known already."""
         if is_trivial(expr):
             return expr
         if expr in self._named:  # the same expression twice: one name
             return self._named[expr]
         k = len(self.definitions)
-        symbol = self.define(Generated(f"{self.prefix}{k}", (self.prefix, k)), expr)  # same model, same order
+        symbol = Generated(f"{self.prefix}{k}", (self.prefix, k))  # same model, same order
+        self.define(symbol, expr, uses)
         self._named[expr] = symbol
         return symbol
 
@@ -79,6 +99,18 @@ class Subexpressions:
         if isinstance(matrix, sp.MatrixBase):
             return matrix.applyfunc(self.add)
         return tuple(map(self.add, matrix))
+
+    def scalar(self, x):
+        """A sympy scalar as the engine's."""
+        return self.engine.scalar(x)
+
+    def vector(self, x) -> tuple:
+        """The entries of a sympy vector or matrix (row by row) as the engine's scalars."""
+        return self.engine.scalars(x)
+
+    def matrix(self, x, cols: int = 1) -> sp.Matrix:
+        """The `sp.Matrix` of `cols` columns with the engine scalars `x` row by row, in sympy."""
+        return sp.Matrix(len(x) // cols if cols else 0, cols, [self.engine.to_sympy(e) for e in x])
 
     def dependencies(self, exprs: Iterable[sp.Expr]) -> list[sp.Symbol]:
         """The intermediates that `exprs` need, in definition order."""
@@ -103,12 +135,14 @@ class Subexpressions:
                     self.add(self._direct(self.definitions[s], seeds, key))
         return self._direct(expr, seeds, key)
 
-    def define(self, symbol: sp.Symbol, expr: sp.Expr) -> sp.Symbol:
-        """Name `expr` by the given `symbol` (one of eomgen's, new here), an intermediate like the others."""
+    def define(self, symbol: sp.Symbol, expr: sp.Expr, uses=None) -> sp.Symbol:
+        """Name `expr` by the given `symbol` (one of eomgen's, new here), an intermediate like the others;
+        `uses()`, where given, lists the expression's symbols (else its free symbols)."""
         if symbol in self.definitions:
             raise ValueError(f"{symbol} is defined already")
         self._index[symbol] = len(self.definitions)
-        self._uses[symbol] = tuple(s for s in sp.sympify(expr).free_symbols if s in self.definitions)
+        symbols = sp.sympify(expr).free_symbols if uses is None else uses()
+        self._uses[symbol] = tuple(s for s in symbols if s in self.definitions)
         self.definitions[symbol] = sp.sympify(expr)
         return symbol
 

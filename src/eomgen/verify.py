@@ -159,9 +159,10 @@ class Report:
 
 
 def verify(system: System, method: str | None = None, backend: str = "numpy", states: int = 20,
-           frames: list[str] | None = None, seed: int = 0) -> Report:
+           frames: list[str] | None = None, seed: int = 0, engine: str | None = None) -> Report:
     """Derive, generate and compare M, b, g and the Jacobians and J̇u of `frames` (default: the end
-    frames) with Pinocchio at `states` random states (method: `derive`'s, default the cheapest)."""
+    frames) with Pinocchio at `states` random states (method and engine: `derive`'s, default the
+    cheapest and the fastest)."""
     if not isinstance(system, System):
         raise ModelError(f"verify: expected a System (it derives the equations itself), "
                          f"got {type(system).__name__}")
@@ -171,7 +172,7 @@ def verify(system: System, method: str | None = None, backend: str = "numpy", st
     data = model.createData()
     t0 = time.perf_counter()
     frames = end_frames(system) if frames is None else frames
-    eom = derive(system, method=method, frames=frames)  # the frames' J and J̇ u generated with M, b, g
+    eom = derive(system, method=method, frames=frames, engine=engine)  # J and J̇ u generated with M, b, g
     t1 = time.perf_counter()
     f = codegen(eom, backend=backend)
     t2 = time.perf_counter()

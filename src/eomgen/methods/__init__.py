@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..engine import collection_paused
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..kinematics import Kinematics
@@ -22,7 +23,7 @@ METHODS = {
 
 
 def derive(system: System, method: str | None = None, quantities=None,
-           frames=None) -> EquationsOfMotion:
+           frames=None, engine: str | None = None) -> EquationsOfMotion:
     """Equations of motion M u̇ + b + g = τ + Sᵀ τ_a of `system` by `method`: "recursive" (the
     body-frame composite-rigid-body and recursive Newton-Euler algorithms, which give the cheapest
     code), or the lecture's "projected_newton_euler", "lagrange", "free_cut". The default (None) is the
@@ -32,7 +33,11 @@ def derive(system: System, method: str | None = None, quantities=None,
     Model only what a scene requires: `quantities`, a subset of ("M", "b", "g") (default all), derives
     only those, e.g. ("g",) for gravity compensation (() for none); `frames`, frame or body names whose
     Jacobian J and J̇ u are derived with the equations (and generated with them), e.g. the contact
-    frames of a scene. The other frames' Jacobians are still derived when first asked for."""
+    frames of a scene. The other frames' Jacobians are still derived when first asked for.
+
+    `engine` does the arithmetic of the kinematics and the recursions: "symengine" (the default where it
+    is installed, several times faster) or "sympy" (the reference); the equations are sympy either way,
+    and the generated code is printed from sympy's canonical form."""
     if not isinstance(system, System):
         raise TypeError(f"derive expects an eomgen.System, got {type(system).__name__}")
     flexible = any(isinstance(j, FlexibleLink) for j in system.joints)
@@ -67,10 +72,11 @@ def derive(system: System, method: str | None = None, quantities=None,
     if wrong:
         raise ModelError(f"quantities: a subset of {QUANTITIES}; unknown {wrong}")
     frames = [frames] if isinstance(frames, str) else list(frames or [])
-    kin = Kinematics(system)
-    for frame in frames:
-        kin.jacobian(frame)  # an unknown name is an error here, before any derivation
-    eom = METHODS[method](kin, tuple(k for k in QUANTITIES if k in quantities))
+    with collection_paused():
+        kin = Kinematics(system, engine)
+        for frame in frames:
+            kin.jacobian(frame)  # an unknown name is an error here, before any derivation
+        eom = METHODS[method](kin, tuple(k for k in QUANTITIES if k in quantities))
     for frame in frames:
         eom.compact[f"J:{frame}"] = kin.jacobian(frame)
         if not moving:  # J̇ u is the bias of J u, which a prescribed motion's own rate is not part of

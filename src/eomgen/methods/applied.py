@@ -65,8 +65,8 @@ def spring_potential(kin: Kinematics, spring: Spring) -> sp.Expr:
 
 def potential_energy(kin: Kinematics) -> sp.Expr:
     """U = −Σ mᵢ g⃗ · r_Sᵢ + Σ ½ k (‖r_a − r_b‖ − l0)² (gravity and springs)."""
-    U = sum((-mul(body.mass, dot(kin.system.gravity, kin.com(body))) for body in kin.system.bodies), sp.Integer(0))
-    return U + sum((spring_potential(kin, s) for s in kin.system.loads if isinstance(s, Spring)), sp.Integer(0))
+    return sp.Add(*[-mul(body.mass, dot(kin.system.gravity, kin.com(body))) for body in kin.system.bodies],
+                  *[spring_potential(kin, s) for s in kin.system.loads if isinstance(s, Spring)])
 
 
 def armature(kin: Kinematics) -> list[tuple[int, sp.Expr]]:

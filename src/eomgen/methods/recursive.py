@@ -27,23 +27,25 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
-from ..linalg import (ZERO, add, apply, apply_T, compose, compose_T, cross, diagonal, dot, matrix, outer,
+from ..linalg import (ZERO, add, apply, apply_T, compose, compose_T, cross, diagonal, dot, outer,
                       quadratic_form, scale, subtract, total, vector)
-from .applied import add_armature, applied_wrenches, armature, generalized_force, potential_energy
+from .applied import applied_wrenches, armature, generalized_force, potential_energy
 
 
 class Recursion:
     """The bodies' transforms (R, t), motion subspaces S and joint biases in body axes, and the two
-    recursions over them (3-vectors and 3×3 matrices as tuples, `linalg`)."""
+    recursions over them (3-vectors and 3×3 matrices as tuples of the engine's scalars, `linalg`; sympy
+    matrices out)."""
 
     def __init__(self, kin: Kinematics) -> None:
         self.kin, self.sub, self.n = kin, kin.sub, kin.n
         bodies = self.bodies = kin.system.bodies
         self.X = {b: _transform(kin, b) for b in bodies}
         self.children = {b: [c for c in bodies if c.parent is b] for b in bodies}
-        self.S = {b: [(i, self.sub.add_matrix(vector(v)), self.sub.add_matrix(vector(w)))
+        e = self.sub.vector
+        self.S = {b: [(i, self.sub.add_matrix(e(v)), self.sub.add_matrix(e(w)))
                       for i, (v, w) in zip(b.speed_indices, b.joint.subspace())] for b in bodies}
-        self.biases = {b: tuple(self.sub.add_matrix(vector(x)) for x in b.joint.bias())
+        self.biases = {b: tuple(self.sub.add_matrix(e(x)) for x in b.joint.bias())
                        for b in bodies if self.S[b]}
         self._moved: dict = {}  # (a, k): body a's subspace in body k's frame
 
@@ -74,7 +76,7 @@ class Recursion:
 
     def motions(self, u, ud, gravity: sp.Matrix) -> dict:
         """(Ω, α, a) of every body in its own axes, parents first, the base accelerating with −g⃗."""
-        motion = {}
+        motion, u, ud, gravity = {}, self.sub.vector(u), self.sub.vector(ud), self.sub.vector(gravity)
         for b in self.bodies:
             parent = (ZERO, ZERO, tuple(-x for x in gravity)) if b.parent is None else motion[b.parent]
             motion[b] = self._motion(b, parent, u, ud)
@@ -85,23 +87,23 @@ class Recursion:
         `loads` less their generalized forces: each force F at r and torque T on body i (world axes,
         `applied_wrenches`) taken off its balance, f_i −= Rᵀ F, n_i −= r × Rᵀ F + Rᵀ T (R the body's rotation
         in the world, r in body axes)."""
-        sub = self.sub
+        sub, e = self.sub, self.sub.vector
         F, N = {}, {}
         for b, (w, al, a) in self.motions(u, ud, gravity).items():
-            c, inertia = vector(b.com), vector(b.inertia)
+            c, inertia = e(b.com), e(b.inertia)
             a_S = add(add(a, cross(al, c)), cross(w, sub.add_matrix(cross(w, c))))
-            f = sub.add_matrix(scale(b.mass, a_S))
+            f = sub.add_matrix(scale(sub.scalar(b.mass), a_S))
             N[b] = add(add(apply(inertia, al), cross(w, sub.add_matrix(apply(inertia, w)))), cross(c, f))
             F[b] = f
         for point, F_ext, T_ext in (w for load in self.kin.system.loads if loads
                                     for w in applied_wrenches(self.kin, load)):
             if point.body is not None:  # a force on the world moves nothing
-                R = vector(self.kin.R[point.body])
-                f = sub.add_matrix(apply_T(R, sub.add_matrix(vector(F_ext))))
+                R = self.kin._R[point.body]
+                f = sub.add_matrix(apply_T(R, sub.add_matrix(e(F_ext))))
                 F[point.body] = subtract(F[point.body], f)
-                N[point.body] = subtract(subtract(N[point.body], cross(vector(point.offset), f)),
-                                         apply_T(R, sub.add_matrix(vector(T_ext))))
-        tau = [sp.Integer(0)] * self.n
+                N[point.body] = subtract(subtract(N[point.body], cross(e(point.offset), f)),
+                                         apply_T(R, sub.add_matrix(e(T_ext))))
+        tau = [0] * self.n
         for b in reversed(self.bodies):
             for c in self.children[b]:
                 lin, ang = self.up(c, F[c], N[c])
@@ -109,19 +111,20 @@ class Recursion:
             F[b], N[b] = sub.add_matrix(F[b]), sub.add_matrix(N[b])
             for i, v, w in self.S[b]:
                 tau[i] += dot(v, F[b]) + dot(w, N[b])
-        return matrix(tau)
+        return sub.matrix(tau)
 
-    def crba(self) -> sp.Matrix:
-        """M: composite inertias from the leaves, then each joint's column up to the root."""
+    def crba(self) -> tuple[sp.Matrix, sp.Expr]:
+        """(M, T = ½ uᵀ M u): composite inertias from the leaves, then each joint's column up to the root,
+        plus the armature on the diagonal."""
         sub, S = self.sub, self.S
         comp = {}
         for b in reversed(self.bodies):
-            m, h, I_O = about_origin(b)
+            m, h, I_O = about_origin(b, sub.vector)
             for ch in self.children[b]:
                 m_c, h_c, I_c = moved(comp[ch], *self.X[ch], sub.add_matrix)
                 m, h, I_O = m + m_c, add(h, h_c), add(I_O, I_c)
             comp[b] = (sub.add(m), sub.add_matrix(h), _symmetric(sub, I_O))
-        M, down = [[sp.Integer(0)] * self.n for _ in range(self.n)], self._meetings()
+        M, down = [[0] * self.n for _ in range(self.n)], self._meetings()
         for b in self.bodies:
             m, h, I_O = comp[b]
             for j, v, w in S[b]:  # the momentum of the composite moved by u_j = 1: (m v + ω × h, I_O ω + h × v)
@@ -141,9 +144,10 @@ class Recursion:
                     if above or k.parent is None:
                         break
                     F, k = self.up(k, *F), k.parent
-        M = sp.Matrix(M) if self.n else sp.zeros(0, 0)
-        add_armature(self.kin, M)
-        return M
+        for i, inertia in armature(self.kin):
+            M[i][i] += sub.scalar(inertia)
+        T = sub.engine.to_sympy(quadratic_form(M, self.sub.vector(self.kin.u))) / 2
+        return sub.matrix([x for row in M for x in row], self.n), T
 
     def _meetings(self) -> dict:
         """Where each column's momentum meets the subspaces of the joints above it: it moves up across
@@ -207,8 +211,7 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     recursion, zero, rest = Recursion(kin), sp.zeros(3, 1), [0] * n
     compact = {"U": potential_energy(kin)}  # only what is asked: g alone needs one gravity pass
     if "M" in quantities:
-        M = compact["M"] = recursion.crba()
-        compact["T"] = quadratic_form(M, kin.u) / 2
+        compact["M"], compact["T"] = recursion.crba()
     if "b" in quantities:
         compact["b"] = recursion.rnea(kin.u, rest, zero)
     if "g" in quantities:
@@ -220,11 +223,11 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     return EquationsOfMotion(kin, "recursive", compact)
 
 
-def about_origin(body) -> tuple:
+def about_origin(body, scalars=tuple) -> tuple:
     """(m, h = m c, I_O = I_c + m (cᵀc 1 − c cᵀ)) of a body about its frame's origin, in its axes (tuples,
-    `linalg`)."""
-    m, c = body.mass, vector(body.com)
-    return m, scale(m, c), add(vector(body.inertia), scale(m, subtract(diagonal(dot(c, c)), outer(c, c))))
+    `linalg`, of `scalars`: sympy's, or an engine's `Subexpressions.vector`)."""
+    (m,), c = scalars((body.mass,)), scalars(body.com)
+    return m, scale(m, c), add(scalars(body.inertia), scale(m, subtract(diagonal(dot(c, c)), outer(c, c))))
 
 
 def moved(inertia: tuple, R, t, name=lambda x: x) -> tuple:
@@ -244,9 +247,10 @@ def moved(inertia: tuple, R, t, name=lambda x: x) -> tuple:
 def _transform(kin: Kinematics, body) -> tuple[tuple, tuple]:
     """(R, t) with x_parent = R x_body + t."""
     R_q, t_q = body.joint.motion()
-    R_P = vector(body.placement.rotation)
-    R = kin.sub.add_matrix(compose(R_P, vector(R_q)))
-    return R, kin.sub.add_matrix(add(vector(body.placement.translation), apply(R_P, vector(t_q))))
+    e = kin.sub.vector
+    R_P = e(body.placement.rotation)
+    R = kin.sub.add_matrix(compose(R_P, e(R_q)))
+    return R, kin.sub.add_matrix(add(e(body.placement.translation), apply(R_P, e(t_q))))
 
 
 def _symmetric(sub, A: tuple) -> tuple:

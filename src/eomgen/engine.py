@@ -1,0 +1,186 @@
+"""The scalar engine of the hot core (kinematics, the body-frame recursions): sympy, the reference, or
+symengine, sympy's C++ counterpart, whose sums and products are built several times faster.
+
+Only the hot core computes in the engine. Everything it names enters `Subexpressions` as a sympy
+definition (converted once, sympy's canonical order of terms and factors), so the methods, closed
+forms, display, worked solutions and printers see sympy objects alone, and the generated sources do
+not depend on the engine's hash order. A symengine symbol is a numbered token ("_ε3") tied to its sympy
+symbol in both directions: two sympy symbols of one name (a user's "x" and eomgen's "x") stay apart
+and keep their assumptions."""
+from __future__ import annotations
+
+import gc
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from functools import cmp_to_key
+
+import sympy as sp
+
+from .errors import ModelError
+
+try:
+    import symengine as se
+except ImportError:  # an optional extra: eomgen[symengine]
+    se = None
+
+ENGINES = ("sympy", "symengine")
+
+
+def default_engine() -> str:
+    """symengine where it is installed, else sympy."""
+    return "symengine" if se is not None else "sympy"
+
+
+def make_engine(name: str | None = None) -> Sympy | Symengine:
+    """A fresh engine by name (None: `default_engine`)."""
+    name = default_engine() if name is None else name
+    if name not in ENGINES:
+        raise ModelError(f"engine: {name!r} is not one of {ENGINES}")
+    if name == "symengine" and se is None:
+        raise ModelError("engine 'symengine' is not installed: pip install 'eomgen[symengine]', "
+                         "or engine='sympy'")
+    return Sympy() if name == "sympy" else Symengine()
+
+
+@contextmanager
+def collection_paused() -> Iterator[None]:
+    """Python's cycle collector paused while a derivation builds its (acyclic) expressions: it would walk
+    them again and again as they pile up (a fifth of a big robot's derivation)."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
+def entries(x: Sequence) -> Sequence:
+    """The entries of a sequence, or of a `sp.Matrix` row by row (its list: indexing one converts)."""
+    return x.flat() if isinstance(x, sp.MatrixBase) else x
+
+
+def total_of(terms: list):
+    """Σ terms in the terms' engine (Python integers are neutral: 0 + x is x in either)."""
+    for x in terms:
+        if isinstance(x, sp.Basic):
+            return sp.Add(*terms)
+        if se is not None and isinstance(x, se.Basic):
+            return se.Add(*terms)
+    return sum(terms)
+
+
+class Sympy:
+    """The reference engine: the hot core computes in sympy itself."""
+    name = "sympy"
+
+    def owns(self, x) -> bool:
+        return False
+
+    def scalar(self, x):
+        return x
+
+    def scalars(self, x: Sequence) -> tuple:
+        return tuple(entries(x))
+
+    def to_sympy(self, x):
+        return x
+
+
+class Symengine:
+    """symengine scalars, converted from and to sympy through a table of symbols."""
+    name = "symengine"
+
+    def __init__(self) -> None:
+        self._token: dict[sp.Symbol, se.Symbol] = {}
+        self._symbol: dict[se.Symbol, sp.Symbol] = {}
+        self._placeholder: dict[sp.Symbol, sp.Symbol] = {}  # sympy symbols named as the tokens
+        self._by_name: dict[str, sp.Symbol] = {}
+        self._in: dict[sp.Basic, se.Basic] = {}
+
+    def owns(self, x) -> bool:
+        return isinstance(x, se.Basic)
+
+    def token(self, s: sp.Symbol) -> se.Symbol:
+        """The symengine symbol of a sympy symbol."""
+        if s not in self._token:
+            name = f"_ε{len(self._token)}"
+            self._token[s] = token = se.Symbol(name)
+            self._symbol[token], self._by_name[name] = s, s
+            self._placeholder[s] = sp.Symbol(name)
+        return self._token[s]
+
+    def scalar(self, x):
+        """A sympy scalar (or an integer, or one of the engine's) in the engine."""
+        if isinstance(x, int) or isinstance(x, se.Basic):
+            return x
+        if x not in self._in:
+            x = sp.sympify(x)
+            if x.is_Symbol:
+                self._in[x] = self.token(x)
+            else:
+                for s in x.free_symbols:
+                    self.token(s)
+                self._in[x] = se.sympify(x.xreplace(self._placeholder))
+        return self._in[x]
+
+    def scalars(self, x: Sequence) -> tuple:
+        return tuple(map(self.scalar, entries(x)))
+
+    def to_sympy(self, x):
+        """The sympy expression of an engine scalar: symbols from the table, sums, products, powers, sin and
+        cos rebuilt here (`_BUILD`), anything else through symengine's own conversion, tokens renamed."""
+        if not isinstance(x, se.Basic):
+            return sp.sympify(x)
+        symbol = self._symbol
+
+        def convert(e):
+            kind = type(e)
+            if kind is se.Symbol:
+                return symbol[e]
+            if kind in _BUILD:
+                return _BUILD[kind](*map(convert, e.args))
+            if e.is_Integer:
+                return sp.Integer(int(e))
+            r = e._sympy_()
+            return r.xreplace({s: self._by_name[s.name] for s in r.free_symbols})
+
+        return convert(x)
+
+    def uses(self, x) -> list[sp.Symbol]:
+        """The sympy symbols of an engine scalar (symengine's free symbols, mapped)."""
+        return [self._symbol[s] for s in x.free_symbols]
+
+
+_ORDER = cmp_to_key(sp.Basic.compare)
+
+
+def _ordered(head, args: tuple):
+    """head(*args) of arguments that are already collected (symengine's sums and products are): sympy's
+    canonical order (the number first, the rest by `Basic.compare`, as its `flatten` sorts) without
+    collecting them again."""
+    numbers, rest = [a for a in args if a.is_Number], [a for a in args if not a.is_Number]
+    if len(rest) == 2:
+        if rest[0].compare(rest[1]) > 0:
+            rest.reverse()
+    else:
+        rest.sort(key=_ORDER)
+    return head._from_args(numbers + rest)
+
+
+def _sum(*args):
+    """A sum; collected by sympy where a term is a sum itself (a number times a sum, which symengine keeps
+    and sympy distributes: `_product`), so that the terms cancel as sympy's would."""
+    return sp.Add(*args) if any(a.is_Add for a in args) else _ordered(sp.Add, args)
+
+
+def _product(*args):
+    """A product; a number times a sum distributed as sympy does (2 (a + b) → 2 a + 2 b)."""
+    if len(args) == 2 and (args[0].is_Number and args[1].is_Add or args[1].is_Number and args[0].is_Add):
+        return sp.Mul(*args)
+    return _ordered(sp.Mul, args)
+
+
+_BUILD = {} if se is None else {
+    se.Add: _sum, se.Mul: _product, se.Pow: lambda b, e: sp.Pow(b, e, evaluate=False),
+    se.sin: lambda a: sp.sin(a, evaluate=False), se.cos: lambda a: sp.cos(a, evaluate=False)}
