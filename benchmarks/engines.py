@@ -1,5 +1,5 @@
-"""Derivation speed by engine (`eg.derive(..., engine=)`): sympy, symengine, and the eomgen of an earlier
-git revision (--before REF, its own default), side by side in one run.
+"""Derivation speed by engine (`eg.derive(..., engine=)`): sympy, symengine, and the eomgen of earlier git
+revisions (--before REF ..., each with its own default), side by side in one run.
 
 Cases: tiago_dual and talos (M, b, g by the body-frame recursions), the 30-link spatial chain of
 derive_chain.py, the 25-link pendulum on a cart (derivation and NumPy code: a cart on x carrying 25
@@ -7,9 +7,9 @@ links about z, point masses at the links' ends, symbolic lengths and masses), th
 closed forms formed (derivation, then M, b, g inlined to expressions in q, u and the parameters, as sympy's
 KanesMethod gives them; KanesMethod's own time on the same chain, once, beside it). Each case and
 variant runs in a fresh process, `--repeat` times interleaved; the table shows the least CPU seconds and
-the speed-ups over the earlier revision and over the sympy engine.
+the speed-ups of the symengine engine over each earlier revision and over the sympy engine.
 
-Run: python benchmarks/engines.py [--before 1339c1b] [--repeat 3] [--cases tiago_dual chain30 ...]
+Run: python benchmarks/engines.py [--before 3001cb3^1 1339c1b] [--repeat 3] [--cases tiago_dual ...]
      [--out benchmarks/results/engines.json]"""
 from __future__ import annotations
 
@@ -80,7 +80,7 @@ def kanes_method(n: int) -> float:
 
 
 def measure(case: str, variant: str, src: Path) -> dict:
-    engine = None if variant == "before" else variant
+    engine = variant if variant in ("sympy", "symengine") else None
     code = (f"import sys, json; sys.path[:0] = [{str(src)!r}, {str(HERE)!r}]; import engines; "
             f"print(json.dumps(engines.one({case!r}, {engine!r})))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
@@ -92,14 +92,15 @@ def main() -> None:
     import results_io
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--before", default="1339c1b", help="git revision to compare with")
+    parser.add_argument("--before", nargs="*", default=["3001cb3^1", "1339c1b"],
+                        help="git revisions to compare with")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--cases", nargs="*", default=list(CASES))
     parser.add_argument("--out", default=results_io.default_path("engines"))
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
-        sources = {"before": builds.export(args.before, Path(tmp) / "before"),
-                   "sympy": HERE.parent / "src", "symengine": HERE.parent / "src"}
+        sources = {rev: builds.export(rev, Path(tmp) / f"before{k}") for k, rev in enumerate(args.before)}
+        sources.update({"sympy": HERE.parent / "src", "symengine": HERE.parent / "src"})
         rows = []
         for case in args.cases:
             best: dict = {}
@@ -110,20 +111,21 @@ def main() -> None:
                         best[variant] = r
             row = {"case": case, **{f"{v}_s": r["cpu_s"] for v, r in best.items()},
                    "intermediates": best["symengine"]["intermediates"]}
-            row["speedup_before"] = row["before_s"] / row["symengine_s"]
-            row["speedup_sympy"] = row["sympy_s"] / row["symengine_s"]
+            for v in sources:
+                row[f"speedup_{v}"] = row[f"{v}_s"] / row["symengine_s"]
             if case == "chain10_closed":
                 row["KanesMethod_s"] = kanes_method(10)
                 row["KanesMethod_over_symengine"] = row["KanesMethod_s"] / row["symengine_s"]
             rows.append(row)
             print(json.dumps(row), flush=True)
-    print(f"\n| case | before {args.before} s | sympy engine s | symengine s | × before | × sympy | note |")
-    print("|---|---|---|---|---|---|---|")
+    print("\n| case | " + " | ".join(f"{v} s" for v in sources) + " | "
+          + " | ".join(f"symengine × {v}" for v in sources if v != "symengine") + " | note |")
+    print("|---" * (2 * len(sources) + 1) + "|")
     for r in rows:
         note = (f"KanesMethod {r['KanesMethod_s']:.1f} s = {r['KanesMethod_over_symengine']:.0f}× symengine"
                 if "KanesMethod_s" in r else f"{r['intermediates']} intermediates")
-        print(f"| {r['case']} | {r['before_s']:.3f} | {r['sympy_s']:.3f} | {r['symengine_s']:.3f} | "
-              f"{r['speedup_before']:.2f} | {r['speedup_sympy']:.2f} | {note} |")
+        print(f"| {r['case']} | " + " | ".join(f"{r[f'{v}_s']:.3f}" for v in sources) + " | "
+              + " | ".join(f"{r[f'speedup_{v}']:.2f}" for v in sources if v != "symengine") + f" | {note} |")
     results_io.write(args.out, "engines", rows, before=args.before, repeat=args.repeat)
 
 

@@ -17,6 +17,14 @@ def test_negative_mass():
         _system().add_body("arm", joint=eg.Revolute("q"), mass=-1)
 
 
+def test_noncommutative_symbol():
+    """The engines take every symbol as commuting (symengine has no other kind): one that does not is
+    refused where it enters."""
+    m = sp.Symbol("m", commutative=False)
+    with pytest.raises(ModelError, match="body 'arm'.*mass.*does not commute"):
+        _system().add_body("arm", joint=eg.Revolute("q"), mass=m)
+
+
 def test_inertia_not_symmetric():
     with pytest.raises(ModelError, match="body 'arm'.*symmetric"):
         _system().add_body("arm", joint=eg.Revolute("q"), mass=1, inertia=[[1, 0.5, 0], [0, 1, 0], [0, 0, 1]])

@@ -119,8 +119,9 @@ class Symengine:
             if x.is_Symbol:
                 self._in[x] = self.token(x)
             else:
-                for s in x.free_symbols:
-                    self.token(s)
+                for s in sp.preorder_traversal(x):  # tokens numbered in the order met, not hash order
+                    if s.is_Symbol:
+                        self.token(s)
                 self._in[x] = se.sympify(x.xreplace(self._placeholder))
         return self._in[x]
 
@@ -165,7 +166,7 @@ def _ordered(head, args: tuple):
             rest.reverse()
     else:
         rest.sort(key=_ORDER)
-    return head._from_args(numbers + rest)
+    return head._from_args(numbers + rest, is_commutative=True)  # the model refuses others (`values`)
 
 
 def _sum(*args):

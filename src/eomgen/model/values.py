@@ -2,8 +2,8 @@
 
 Every field of a model passes through here where it enters, so that a value eomgen cannot handle is
 refused with an error naming the field, never turned into a wrong number later: strings are refused
-(sympy would evaluate them as Python), as are non-finite and complex numbers, functions of time,
-derivatives, integrals and relations."""
+(sympy would evaluate them as Python), as are non-finite and complex numbers, noncommutative symbols,
+functions of time, derivatives, integrals and relations."""
 from __future__ import annotations
 
 import numbers
@@ -29,6 +29,8 @@ def scalar(value, what: str) -> sp.Expr:
     expr = sp.sympify(value)
     if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
         raise ModelError(f"{what}: must be finite, got {expr}")
+    if not expr.is_commutative:
+        raise ModelError(f"{what}: {expr} does not commute; use plain sympy Symbols")
     if expr.is_number and expr.is_real is False:
         raise ModelError(f"{what}: must be real, got {expr}")
     if expr.is_number and abs(float(expr)) > LARGEST:
