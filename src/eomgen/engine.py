@@ -129,16 +129,30 @@ class Symengine:
         return tuple(map(self.scalar, entries(x)))
 
     def to_sympy(self, x):
-        """The sympy expression of an engine scalar: symbols from the table, sums, products, powers, sin and
-        cos rebuilt here (`_BUILD`), anything else through symengine's own conversion, tokens renamed."""
-        if not isinstance(x, se.Basic):
-            return sp.sympify(x)
-        symbol = self._symbol
+        """The sympy expression of an engine scalar (`definition`)."""
+        return self.definition(x)[0] if isinstance(x, se.Basic) else sp.sympify(x)
+
+    def definition(self, x) -> tuple[sp.Expr, list[sp.Symbol] | None]:
+        """(the sympy expression of an engine scalar, its symbols): symbols from the table, powers, sin and cos
+        rebuilt here, sums and products in sympy's order without collecting them again (`_ordered`) but where
+        symengine keeps a number times a sum, which sympy distributes and then collects (its terms may cancel:
+        the symbols are None then, not symengine's), anything else through symengine's own conversion, the
+        tokens renamed."""
+        symbol, collected = self._symbol, []
 
         def convert(e):
             kind = type(e)
             if kind is se.Symbol:
                 return symbol[e]
+            if kind is se.Add or kind is se.Mul:
+                args = list(map(convert, e.args))
+                if kind is se.Mul and len(args) == 2 and any(a.is_Number for a in args) \
+                        and any(a.is_Add for a in args):
+                    return sp.Mul(*args)  # 2 (a + b) → 2 a + 2 b
+                if kind is se.Add and any(a.is_Add for a in args):
+                    collected.append(e)
+                    return sp.Add(*args)
+                return _ordered(sp.Add if kind is se.Add else sp.Mul, args)
             if kind in _BUILD:
                 return _BUILD[kind](*map(convert, e.args))
             if e.is_Integer:
@@ -146,11 +160,8 @@ class Symengine:
             r = e._sympy_()
             return r.xreplace({s: self._by_name[s.name] for s in r.free_symbols})
 
-        return convert(x)
-
-    def uses(self, x) -> list[sp.Symbol]:
-        """The sympy symbols of an engine scalar (symengine's free symbols, mapped)."""
-        return [self._symbol[s] for s in x.free_symbols]
+        expr = convert(x)
+        return expr, None if collected else [symbol[s] for s in x.free_symbols]
 
 
 _ORDER = cmp_to_key(sp.Basic.compare)
@@ -169,19 +180,6 @@ def _ordered(head, args: tuple):
     return head._from_args(numbers + rest, is_commutative=True)  # the model refuses others (`values`)
 
 
-def _sum(*args):
-    """A sum; collected by sympy where a term is a sum itself (a number times a sum, which symengine keeps
-    and sympy distributes: `_product`), so that the terms cancel as sympy's would."""
-    return sp.Add(*args) if any(a.is_Add for a in args) else _ordered(sp.Add, args)
-
-
-def _product(*args):
-    """A product; a number times a sum distributed as sympy does (2 (a + b) → 2 a + 2 b)."""
-    if len(args) == 2 and (args[0].is_Number and args[1].is_Add or args[1].is_Number and args[0].is_Add):
-        return sp.Mul(*args)
-    return _ordered(sp.Mul, args)
-
-
-_BUILD = {} if se is None else {
-    se.Add: _sum, se.Mul: _product, se.Pow: lambda b, e: sp.Pow(b, e, evaluate=False),
-    se.sin: lambda a: sp.sin(a, evaluate=False), se.cos: lambda a: sp.cos(a, evaluate=False)}
+_BUILD = {} if se is None else {se.Pow: lambda b, e: sp.Pow(b, e, evaluate=False),
+                                se.sin: lambda a: sp.sin(a, evaluate=False),
+                                se.cos: lambda a: sp.cos(a, evaluate=False)}

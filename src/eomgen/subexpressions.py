@@ -77,20 +77,21 @@ class Subexpressions:
             if is_trivial(expr):
                 return expr
             if expr not in self._named_engine:
-                name = self._name(self.engine.to_sympy(expr), lambda: self.engine.uses(expr))
+                definition, symbols = self.engine.definition(expr)
+                name = self._name(definition, symbols)
                 self._named_engine[expr] = self.engine.scalar(name)
             return self._named_engine[expr]
         return self._name(sp.sympify(expr))
 
-    def _name(self, expr: sp.Expr, uses=None) -> sp.Expr:
-        """The name of a sympy expression (`add`), `uses` its symbols where known already."""
+    def _name(self, expr: sp.Expr, symbols=None) -> sp.Expr:
+        """The name of a sympy expression (`add`), `symbols` its symbols where known already."""
         if is_trivial(expr):
             return expr
         if expr in self._named:  # the same expression twice: one name
             return self._named[expr]
         k = len(self.definitions)
         symbol = Generated(f"{self.prefix}{k}", (self.prefix, k))  # same model, same order
-        self.define(symbol, expr, uses)
+        self.define(symbol, expr, symbols)
         self._named[expr] = symbol
         return symbol
 
@@ -135,13 +136,13 @@ class Subexpressions:
                     self.add(self._direct(self.definitions[s], seeds, key))
         return self._direct(expr, seeds, key)
 
-    def define(self, symbol: sp.Symbol, expr: sp.Expr, uses=None) -> sp.Symbol:
+    def define(self, symbol: sp.Symbol, expr: sp.Expr, symbols=None) -> sp.Symbol:
         """Name `expr` by the given `symbol` (one of eomgen's, new here), an intermediate like the others;
-        `uses()`, where given, lists the expression's symbols (else its free symbols)."""
+        `symbols`, where given, are the expression's symbols (else its free symbols)."""
         if symbol in self.definitions:
             raise ValueError(f"{symbol} is defined already")
         self._index[symbol] = len(self.definitions)
-        symbols = sp.sympify(expr).free_symbols if uses is None else uses()
+        symbols = sp.sympify(expr).free_symbols if symbols is None else symbols
         self._uses[symbol] = tuple(s for s in symbols if s in self.definitions)
         self.definitions[symbol] = sp.sympify(expr)
         return symbol
