@@ -133,11 +133,11 @@ class Symengine:
         return self.definition(x)[0] if isinstance(x, se.Basic) else sp.sympify(x)
 
     def definition(self, x) -> tuple[sp.Expr, list[sp.Symbol] | None]:
-        """(the sympy expression of an engine scalar, its symbols): symbols from the table, powers, sin and cos
-        rebuilt here, sums and products in sympy's order without collecting them again (`_ordered`) but where
-        symengine keeps a number times a sum, which sympy distributes and then collects (its terms may cancel:
-        the symbols are None then, not symengine's), anything else through symengine's own conversion, the
-        tokens renamed."""
+        """(the sympy expression of an engine scalar, its symbols): symbols from the table, powers, sin and
+        cos rebuilt here, sums and products in sympy's order without collecting them again (`_ordered`) but
+        where symengine keeps a number times a sum, which sympy distributes and then collects (its terms may
+        cancel: the symbols are None then, not symengine's), anything else through symengine's own
+        conversion, the tokens renamed."""
         symbol, collected = self._symbol, []
 
         def convert(e):
