@@ -6,8 +6,9 @@ derive_chain.py, the 25-link pendulum on a cart (derivation and NumPy code: a ca
 links about z, point masses at the links' ends, symbolic lengths and masses), the 10-link chain with its
 closed forms formed (derivation, then M, b, g inlined to expressions in q, u and the parameters, as sympy's
 KanesMethod gives them; KanesMethod's own time on the same chain, once, beside it). Each case and
-variant runs in a fresh process, `--repeat` times interleaved; the table shows the least CPU seconds and
-the speed-ups of the symengine engine over each earlier revision and over the sympy engine.
+variant runs in a fresh process (sympy's lazy imports done before the clock starts), `--repeat` times
+interleaved; the table shows the least CPU seconds and the speed-ups of the symengine engine over each
+earlier revision and over the sympy engine.
 
 Run: python benchmarks/engines.py [--before 3001cb3^1 1339c1b] [--repeat 3] [--cases tiago_dual ...]
      [--out benchmarks/results/engines.json]"""
@@ -57,6 +58,8 @@ def one(case: str, engine: str | None) -> dict:
     else:
         import derive_chain
         system = derive_chain.eomgen_chain(30 if case == "chain30" else 10)
+    import sympy as sp
+    sp.Add(*sp.symbols("a b")) * sp.Matrix([1])  # sympy's lazy imports (sympy.tensor: 0.25 s) not timed
     t0 = time.process_time()
     eom = eg.derive(system, **options)
     if case == "cart25":
