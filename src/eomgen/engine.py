@@ -1,5 +1,5 @@
 """The scalar engine of the hot core (kinematics, the body-frame recursions): sympy, the reference, or
-symengine, sympy's C++ counterpart, whose sums and products are built several times faster.
+symengine, sympy's C++ counterpart, whose sums and products cost a fraction of sympy's.
 
 Only the hot core computes in the engine. Everything it names enters `Subexpressions` as a sympy
 definition (converted once, sympy's canonical order of terms and factors), so the methods, closed
@@ -20,7 +20,7 @@ from .errors import ModelError
 
 try:
     import symengine as se
-except ImportError:  # an optional extra: eomgen[symengine]
+except ImportError:  # a dependency where it has wheels (not Intel macOS): sympy then
     se = None
 
 ENGINES = ("sympy", "symengine")
