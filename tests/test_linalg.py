@@ -6,8 +6,9 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from eomgen.linalg import (add, apply, apply_T, compose, compose_T, cross, diagonal, matrix, outer,
-                           quadratic_form, scale, subtract, total, vector)
+from eomgen.engine import vector
+from eomgen.linalg import (add, apply, apply_T, compose, compose_T, cross, diagonal, outer, quadratic_form,
+                           scale, subtract, total)
 
 a, b, c = sp.symbols("a b c")
 ENTRIES = st.sampled_from([sp.Integer(0), sp.Integer(0), sp.Integer(2), sp.Rational(-1, 3), a, b, -c, a + b,
@@ -25,8 +26,8 @@ def same(tuple_result, matrix_result: sp.Matrix) -> bool:
 @settings(max_examples=25, deadline=None)
 @given(A=MATRICES, B=MATRICES, u=VECTORS, v=VECTORS, s=ENTRIES)
 def test_products_equal_sympy_matrices(A, B, u, v, s):
-    MA, MB, Mu, Mv = matrix(A, 3), matrix(B, 3), matrix(u), matrix(v)
-    assert vector(MA) == A and matrix(vector(Mu)) == Mu
+    MA, MB, Mu, Mv = sp.Matrix(3, 3, A), sp.Matrix(3, 3, B), sp.Matrix(u), sp.Matrix(v)
+    assert vector(MA) == A and sp.Matrix(vector(Mu)) == Mu
     assert same(apply(A, u), MA * Mu)
     assert same(apply_T(A, u), MA.T * Mu)
     assert same(compose(A, B), MA * MB)

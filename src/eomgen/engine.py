@@ -55,9 +55,10 @@ def collection_paused() -> Iterator[None]:
             gc.enable()
 
 
-def entries(x: Sequence) -> Sequence:
-    """The entries of a sequence, or of a `sp.Matrix` row by row (its list: indexing one converts)."""
-    return x.flat() if isinstance(x, sp.MatrixBase) else x
+def vector(x: Sequence) -> tuple:
+    """The entries of a sequence, or of a `sp.Matrix` row by row (its flat list: indexing one converts
+    every entry), as a tuple."""
+    return tuple(x.flat() if isinstance(x, sp.MatrixBase) else x)
 
 
 def total_of(terms: list):
@@ -81,7 +82,7 @@ class Sympy:
         return x
 
     def scalars(self, x: Sequence) -> tuple:
-        return tuple(entries(x))
+        return vector(x)
 
     def to_sympy(self, x):
         return x
@@ -126,7 +127,7 @@ class Symengine:
         return self._in[x]
 
     def scalars(self, x: Sequence) -> tuple:
-        return tuple(map(self.scalar, entries(x)))
+        return tuple(map(self.scalar, vector(x)))
 
     def to_sympy(self, x):
         """The sympy expression of an engine scalar (`definition`)."""

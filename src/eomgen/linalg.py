@@ -3,9 +3,9 @@
 The hot core (kinematics, the recursions) keeps a 3-vector as a tuple (x, y, z) and a 3×3 matrix as
 the tuple of its 9 entries row by row (the order in which `sp.Matrix` iterates them): indexing a
 tuple is much cheaper than a `sp.Matrix`, which checks and converts every entry it gives or takes.
-`vector` and `matrix` convert at the boundary. sympy answers `0 * (a + b)` by asking whether a + b is
-finite, which walks the whole expression; robots have many structural zeros (axes, placements,
-Jacobian columns), so the products skip them. `cross` and `scale` take an `sp.Matrix` as well and then
+`engine.vector` takes a `sp.Matrix`'s entries in, `Subexpressions.matrix` gives one out. sympy
+answers `0 * (a + b)` by asking whether a + b is finite, which walks the whole expression; robots have
+many structural zeros (axes, placements, Jacobian columns), so the products skip them. `cross` and `scale` take an `sp.Matrix` as well and then
 give one; `matmul` multiplies `sp.Matrix`es of any shape. The scalars are sympy's or the hot core's
 engine's (`engine`); the constants are Python integers, which either engine takes as its own."""
 from __future__ import annotations
@@ -22,16 +22,6 @@ Matrix3 = tuple  # (A_00, A_01, A_02, A_10, ..., A_22)
 ZEROS = frozenset({0})  # `x in ZEROS` is x == 0 (equal numbers hash equally), without building a 0 to compare
 ZERO: Vector = (0,) * 3
 IDENTITY: Matrix3 = tuple(int(i == j) for i in range(3) for j in range(3))
-
-
-def vector(x: Sequence) -> tuple:
-    """The entries of a column `sp.Matrix` (or of a 3×3 one, row by row), as a tuple."""
-    return tuple(x)
-
-
-def matrix(x: Sequence, cols: int = 1) -> sp.Matrix:
-    """The `sp.Matrix` of `cols` columns with the entries of `x` row by row."""
-    return sp.Matrix(len(x) // cols, cols, x)
 
 
 def mul(a, b) -> sp.Expr:

@@ -15,7 +15,8 @@ import sympy as sp
 
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
-from ..linalg import add, apply, cross, dot, mul, quadratic_form, scale, vector
+from ..engine import vector
+from ..linalg import add, apply, cross, dot, mul, quadratic_form, scale
 from ..model.loads import Point
 from ..progress import progress
 from .applied import add_armature, generalized_force, potential_energy

@@ -25,10 +25,11 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..engine import Sympy, Symengine, vector
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
 from ..linalg import (ZERO, add, apply, apply_T, compose, compose_T, cross, diagonal, dot, outer,
-                      quadratic_form, scale, subtract, total, vector)
+                      quadratic_form, scale, subtract, total)
 from .applied import applied_wrenches, armature, generalized_force, potential_energy
 
 
@@ -119,7 +120,7 @@ class Recursion:
         sub, S = self.sub, self.S
         comp = {}
         for b in reversed(self.bodies):
-            m, h, I_O = about_origin(b, sub.vector)
+            m, h, I_O = about_origin(b, sub.engine)
             for ch in self.children[b]:
                 m_c, h_c, I_c = moved(comp[ch], *self.X[ch], sub.add_matrix)
                 m, h, I_O = m + m_c, add(h, h_c), add(I_O, I_c)
@@ -223,11 +224,12 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     return EquationsOfMotion(kin, "recursive", compact)
 
 
-def about_origin(body, scalars=tuple) -> tuple:
+def about_origin(body, engine: Sympy | Symengine = Sympy()) -> tuple:
     """(m, h = m c, I_O = I_c + m (cᵀc 1 − c cᵀ)) of a body about its frame's origin, in its axes (tuples,
-    `linalg`, of `scalars`: sympy's, or an engine's `Subexpressions.vector`)."""
-    (m,), c = scalars((body.mass,)), scalars(body.com)
-    return m, scale(m, c), add(scalars(body.inertia), scale(m, subtract(diagonal(dot(c, c)), outer(c, c))))
+    `linalg`, of the `engine`'s scalars)."""
+    m, c = engine.scalar(body.mass), engine.scalars(body.com)
+    I_O = add(engine.scalars(body.inertia), scale(m, subtract(diagonal(dot(c, c)), outer(c, c))))
+    return m, scale(m, c), I_O
 
 
 def moved(inertia: tuple, R, t, name=lambda x: x) -> tuple:
