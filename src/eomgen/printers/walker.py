@@ -14,6 +14,7 @@ Generated names are ours (_q0, _u0, _ud0, _p0, _x0, ...): no text of the model (
 symbol names) is ever printed into the source, so running it can do nothing but arithmetic."""
 from __future__ import annotations
 
+import itertools
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -138,8 +139,21 @@ class FunctionWriter:
                      for k, s in enumerate(symbols) for f in (sp.sin, sp.cos)}
         self.printer = Printer({**names, **self.trig}, syntax)
         self._lines: dict[sp.Symbol, tuple[str, int]] = {}
+        self._inputs = frozenset(names)
+        self._named = 0  # intermediates named _x<k> so far
+        self._reads: dict[sp.Symbol, tuple[frozenset, frozenset]] = {}
         self._q_index = {s: k for k, s in enumerate(inputs.get("q", []))}
         self.trig_indices: list[int] = []  # of the last function: the k with sin(q[k]) or cos(q[k]) used
+
+    def _read(self, e: sp.Basic) -> tuple[frozenset, frozenset]:
+        """(the inputs an expression reads, the sin and cos of inputs in it)."""
+        return frozenset(e.free_symbols & self._inputs), frozenset(e.atoms(sp.sin, sp.cos) & self.trig.keys())
+
+    def _reads_of(self, s: sp.Symbol) -> tuple[frozenset, frozenset]:
+        """`_read` of an intermediate's definition, once."""
+        if s not in self._reads:
+            self._reads[s] = self._read(self.sub.definitions[s])
+        return self._reads[s]
 
     def _line(self, s: sp.Symbol) -> tuple[str, int]:
         if s not in self._lines:
@@ -151,17 +165,18 @@ class FunctionWriter:
     def source(self, name: str, outputs: sp.Basic, symmetric: bool = False) -> tuple[str, tuple, int]:
         """(source of function `name`(q, u, ud, p, out[, sin, cos, sqrt, m]), output shape, operation count).
         With `symmetric` only the upper triangle is computed and mirrored."""
-        for k, s in enumerate(self.sub.definitions):  # intermediates added since the last call
-            self.printer.names.setdefault(s, f"_x{k}")
+        names = self.printer.names
+        for k, s in enumerate(itertools.islice(self.sub.definitions, self._named, None), self._named):
+            names.setdefault(s, f"_x{k}")  # intermediates added since the last call
+        self._named = len(self.sub.definitions)
         matrix = outputs if isinstance(outputs, sp.MatrixBase) else sp.Matrix([[outputs]])
         rows, cols = matrix.shape
         cells = [(i, j) for i in range(rows) for j in range(cols) if not symmetric or j >= i]
         exprs = [sp.sympify(matrix[i, j]) for i, j in cells]
         needed = self.sub.dependencies(exprs)
-        used = set().union(*(self.sub.definitions[s].free_symbols for s in needed),
-                           *(e.free_symbols for e in exprs))
-        trig = set().union(*(self.sub.definitions[s].atoms(sp.sin, sp.cos) for s in needed),
-                           *(e.atoms(sp.sin, sp.cos) for e in exprs)) & set(self.trig)
+        reads = [*map(self._reads_of, needed), *map(self._read, exprs)]
+        used = set().union(*(symbols for symbols, _ in reads))
+        trig = set().union(*(t for _, t in reads))
         syntax = self.syntax
         preamble = {}  # variable: the line that reads it from the inputs
         for arg, symbols in self.inputs.items():
