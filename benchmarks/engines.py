@@ -24,7 +24,7 @@ from pathlib import Path
 
 HERE = Path(__file__).parent
 sys.path.insert(0, str(HERE))
-CASES = ("tiago_dual", "talos", "chain30", "cart25", "chain10_closed")
+CASES = ("tiago_dual", "talos", "chain30", "cart25", "chain10_closed", "talos_frames")
 
 
 def cart_pendulum(n: int):
@@ -49,10 +49,10 @@ def one(case: str, engine: str | None) -> dict:
 
     import eomgen as eg
     options = {} if engine is None else {"engine": engine}
-    if case in ("tiago_dual", "talos"):
+    if case in ("tiago_dual", "talos", "talos_frames"):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            system = eg.robots.load(case)
+            system = eg.robots.load(case.removesuffix("_frames"))
     elif case == "cart25":
         system = cart_pendulum(25)
     else:
@@ -60,6 +60,14 @@ def one(case: str, engine: str | None) -> dict:
         system = derive_chain.eomgen_chain(30 if case == "chain30" else 10)
     import sympy as sp
     sp.Add(*sp.symbols("a b")) * sp.Matrix([1])  # sympy's lazy imports (sympy.tensor: 0.25 s) not timed
+    if case == "talos_frames":
+        eom = eg.derive(system, **options)
+        t0 = time.process_time()
+        import numpy as np
+        f, (q, u, _) = eg.codegen(eom), (x[0] for x in eg.random_states(system, 1, np.random.default_rng(0)))
+        for name in system.frames:
+            f.jacobian(name, q), f.jacobian_dot_u(name, q, u)
+        return {"cpu_s": time.process_time() - t0, "intermediates": len(eom.kinematics.sub)}
     t0 = time.process_time()
     eom = eg.derive(system, **options)
     if case == "cart25":
