@@ -9,7 +9,8 @@
   Pinocchio on random trees (symengine is every other test's engine).
 - Golden source per engine: the module of a symbolic arm printed from each engine's derivation is the
   text in tests/golden (one text: the engines' sources are byte-identical there; regenerate it with
-  EOMGEN_GOLDEN=1 after a change meant to change it), and the same text under two PYTHONHASHSEEDs.
+  EOMGEN_GOLDEN=1 after a change meant to change it), and the same text under two PYTHONHASHSEEDs; every
+  robot's module source (sha256) the same under two PYTHONHASHSEEDs from each engine (`slow`).
 - An unknown engine, or symengine where it is not installed, is refused by name."""
 from __future__ import annotations
 
@@ -145,11 +146,35 @@ print(module_source(eg.derive(spatial_arm_3dof(), engine=sys.argv[1]), title="ar
 """
 
 
-def sources(engine_name: str, seed: str) -> subprocess.Popen:
+ROBOT_DIGESTS = """
+import hashlib, sys, warnings
+import eomgen as eg
+from eomgen.printers.module import module_source
+warnings.simplefilter("ignore")
+system = eg.robots.load(sys.argv[1])
+for engine in ("sympy", "symengine"):
+    print(engine, hashlib.sha256(module_source(eg.derive(system, engine=engine)).encode()).hexdigest())
+"""
+
+
+def sources(argument: str, seed: str, script: str = SOURCE) -> subprocess.Popen:
+    """`script` (the golden arm's source by default) run with `argument` under PYTHONHASHSEED=`seed`."""
     tests = Path(__file__).parent
     path = os.pathsep.join([str(tests), str(tests.parent / "src"), os.environ.get("PYTHONPATH", "")])
-    return subprocess.Popen([sys.executable, "-c", SOURCE, engine_name], stdout=subprocess.PIPE, text=True,
+    return subprocess.Popen([sys.executable, "-c", script, argument], stdout=subprocess.PIPE, text=True,
                             env={**os.environ, "PYTHONHASHSEED": seed, "PYTHONPATH": path})
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", EVERY)
+def test_every_robots_sources_under_two_hash_seeds(name):
+    """Each robot's module source (sha256) from each engine is the same under PYTHONHASHSEED 1 and 2, and
+    the same from both engines."""
+    runs = [sources(name, seed, ROBOT_DIGESTS) for seed in ("1", "2")]  # at once
+    outputs = [run.communicate()[0] for run in runs]
+    assert [run.returncode for run in runs] == [0, 0] and outputs[0] == outputs[1], outputs
+    digests = dict(line.split() for line in outputs[0].splitlines())
+    assert digests["sympy"] == digests["symengine"], f"{name}: the engines' sources differ"
 
 
 @pytest.mark.parametrize("engine_name", ENGINES)
