@@ -9,6 +9,8 @@ Inside, 3-vectors and rotations are tuples of the engine's scalars (`linalg`, `e
 symengine); what the methods read is an `sp.Matrix` of sympy expressions, converted once per quantity."""
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator, Mapping
+
 import sympy as sp
 
 from .constraint_rows import constraint_rows
@@ -22,6 +24,24 @@ from .subexpressions import Subexpressions
 from .symbols import t
 
 TIME = "t"
+
+
+class InSympy(Mapping):
+    """A read-only view of a dict of the engine's values, each converted to sympy once, when first read."""
+
+    def __init__(self, values: dict, convert: Callable) -> None:
+        self._values, self._convert, self._converted = values, convert, {}
+
+    def __getitem__(self, key):
+        if key not in self._converted:
+            self._converted[key] = self._convert(self._values[key])
+        return self._converted[key]
+
+    def __iter__(self) -> Iterator:
+        return iter(self._values)
+
+    def __len__(self) -> int:
+        return len(self._values)
 
 
 class Kinematics:
@@ -40,13 +60,15 @@ class Kinematics:
             for symbol, n in zip(joint.driven, range(3)):
                 self.sub.define(symbol, sp.diff(joint.prescribed, t, n))
             self.time_seeds.update({theta: rate, rate: acceleration})
-        self.R: dict[Body, sp.Matrix] = {}
-        self.p: dict[Body, sp.Matrix] = {}
         self._R: dict[Body, tuple] = {}  # R and p as tuples
         self._p: dict[Body, tuple] = {}
         # per body, its joint's motion subspace in world axes: (u index, v of the body origin, ω), tuples
         self._columns: dict[Body, list[tuple[int, tuple, tuple]]] = {}
-        self.columns: dict[Body, list[tuple[int, tuple, tuple]]] = {}  # the same in sympy
+        # the same in sympy, converted on first reading (the recursions read the tuples alone)
+        self.R = InSympy(self._R, lambda R: self.sub.matrix(R, 3))
+        self.p = InSympy(self._p, self.sub.matrix)
+        self.columns = InSympy(self._columns, lambda columns: [
+            (i, tuple(self.sub.matrix(v)), tuple(self.sub.matrix(w))) for i, v, w in columns])
         self._axes: dict[Body, tuple] = {}  # the axes the joint's S and bias are written in
         self.chain: dict[Body, list[Body]] = {}  # the moving joints from the root to the body
         self.on_tip: dict[Body, str] = {}  # bodies beyond a flexible link: the link's joint
@@ -70,15 +92,12 @@ class Kinematics:
         p_joint = add(p_parent, apply(R_parent, e(body.placement.translation)))
         R_q, t_q = joint.motion()
         R = self._R[body] = add_all(compose(R_joint, e(R_q)))
-        p = self._p[body] = add_all(add(p_joint, apply(R_joint, e(t_q))))
-        self.R[body], self.p[body] = self.sub.matrix(R, 3), self.sub.matrix(p)
+        self._p[body] = add_all(add(p_joint, apply(R_joint, e(t_q))))
         S = joint.joint_frame_subspace()
         axes = self._axes[body] = R_joint if S is not None else R
         S = joint.subspace() if S is None else S
         columns = self._columns[body] = [(i, add_all(apply(axes, e(v))), add_all(apply(axes, e(w))))
                                          for i, (v, w) in zip(body.speed_indices, S)]
-        self.columns[body] = [(i, tuple(self.sub.matrix(v)), tuple(self.sub.matrix(w)))
-                              for i, v, w in columns]
         self.chain[body] = (list(self.chain[parent]) if parent else []) + ([body] if columns else [])
 
     # --- positions ---------------------------------------------------------------------------

@@ -5,9 +5,10 @@ the tuple of its 9 entries row by row (the order in which `sp.Matrix` iterates t
 tuple is much cheaper than a `sp.Matrix`, which checks and converts every entry it gives or takes.
 `engine.vector` takes a `sp.Matrix`'s entries in, `Subexpressions.matrix` gives one out. sympy
 answers `0 * (a + b)` by asking whether a + b is finite, which walks the whole expression; robots have
-many structural zeros (axes, placements, Jacobian columns), so the products skip them. `cross` and `scale` take an `sp.Matrix` as well and then
-give one; `matmul` multiplies `sp.Matrix`es of any shape. The scalars are sympy's or the hot core's
-engine's (`engine`); the constants are Python integers, which either engine takes as its own."""
+many structural zeros (axes, placements, Jacobian columns), so the products skip them. `cross` and
+`scale` take an `sp.Matrix` as well and then give one; `matmul` multiplies `sp.Matrix`es of any shape.
+The scalars are sympy's or the hot core's engine's (`engine`); the constants are Python integers, which
+either engine takes as its own."""
 from __future__ import annotations
 
 from collections.abc import Sequence
