@@ -10,6 +10,7 @@ symengine); what the methods read is an `sp.Matrix` of sympy expressions, conver
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping
+from functools import partial
 
 import sympy as sp
 
@@ -65,10 +66,10 @@ class Kinematics:
         # per body, its joint's motion subspace in world axes: (u index, v of the body origin, ω), tuples
         self._columns: dict[Body, list[tuple[int, tuple, tuple]]] = {}
         # the same in sympy, converted on first reading (the recursions read the tuples alone)
-        self.R = InSympy(self._R, lambda R: self.sub.matrix(R, 3))
+        # (bound methods and partials, not lambdas: the equations are pickled, `sweep`)
+        self.R = InSympy(self._R, partial(self.sub.matrix, cols=3))
         self.p = InSympy(self._p, self.sub.matrix)
-        self.columns = InSympy(self._columns, lambda columns: [
-            (i, tuple(self.sub.matrix(v)), tuple(self.sub.matrix(w))) for i, v, w in columns])
+        self.columns = InSympy(self._columns, self._columns_in_sympy)
         self._axes: dict[Body, tuple] = {}  # the axes the joint's S and bias are written in
         self.chain: dict[Body, list[Body]] = {}  # the moving joints from the root to the body
         self.on_tip: dict[Body, str] = {}  # bodies beyond a flexible link: the link's joint
@@ -99,6 +100,9 @@ class Kinematics:
         columns = self._columns[body] = [(i, add_all(apply(axes, e(v))), add_all(apply(axes, e(w))))
                                          for i, (v, w) in zip(body.speed_indices, S)]
         self.chain[body] = (list(self.chain[parent]) if parent else []) + ([body] if columns else [])
+
+    def _columns_in_sympy(self, columns: list[tuple[int, tuple, tuple]]) -> list[tuple[int, tuple, tuple]]:
+        return [(i, tuple(self.sub.matrix(v)), tuple(self.sub.matrix(w))) for i, v, w in columns]
 
     # --- positions ---------------------------------------------------------------------------
     def position(self, point: Point) -> sp.Matrix:
