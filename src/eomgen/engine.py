@@ -12,7 +12,8 @@ from __future__ import annotations
 import gc
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
-from functools import cmp_to_key
+from functools import cache, cmp_to_key
+from operator import itemgetter
 
 import sympy as sp
 
@@ -98,6 +99,7 @@ class Symengine:
         self._placeholder: dict[sp.Symbol, sp.Symbol] = {}  # sympy symbols named as the tokens
         self._by_name: dict[str, sp.Symbol] = {}
         self._in: dict[sp.Basic, se.Basic] = {}
+        self._out: dict[se.Basic, tuple] = {}  # `definition`
 
     def owns(self, x) -> bool:
         return isinstance(x, se.Basic)
@@ -138,47 +140,85 @@ class Symengine:
         cos rebuilt here, sums and products in sympy's order without collecting them again (`_ordered`) but
         where symengine keeps a number times a sum, which sympy distributes and then collects (its terms may
         cancel: the symbols are None then, not symengine's), anything else through symengine's own
-        conversion, the tokens renamed."""
-        symbol, collected = self._symbol, []
+        conversion, the tokens renamed. Each engine node is converted once per engine (`_out`: its sympy
+        form, its `sort_key`, whether a sum was collected in it)."""
+        symbol, memo = self._symbol, self._out
 
-        def convert(e):
+        def convert(e) -> tuple:
+            if e in memo:
+                return memo[e]
             kind = type(e)
             if kind is se.Symbol:
-                return symbol[e]
+                r = symbol[e]
+                memo[e] = done = (r, sort_key(r), False)
+                return done
             if kind is se.Add or kind is se.Mul:
                 args = list(map(convert, e.args))
-                if kind is se.Mul and len(args) == 2 and any(a.is_Number for a in args) \
-                        and any(a.is_Add for a in args):
-                    return sp.Mul(*args)  # 2 (a + b) → 2 a + 2 b
-                if kind is se.Add and any(a.is_Add for a in args):
-                    collected.append(e)
-                    return sp.Add(*args)
-                return _ordered(sp.Add if kind is se.Add else sp.Mul, args)
-            if kind in _BUILD:
-                return _BUILD[kind](*map(convert, e.args))
-            if e.is_Integer:
-                return sp.Integer(int(e))
-            r = e._sympy_()
-            return r.xreplace({s: self._by_name[s.name] for s in r.free_symbols})
+                collected = any(a[2] for a in args)
+                if kind is se.Mul and len(args) == 2 and any(a[0].is_Number for a in args) \
+                        and any(a[0].is_Add for a in args):
+                    r = sp.Mul(*(a[0] for a in args))  # 2 (a + b) → 2 a + 2 b
+                    done = (r, sort_key(r), collected)
+                elif kind is se.Add and any(a[0].is_Add for a in args):
+                    r = sp.Add(*(a[0] for a in args))
+                    done = (r, sort_key(r), True)
+                else:
+                    done = (*_ordered(sp.Add if kind is se.Add else sp.Mul, args), collected)
+            elif kind in _BUILD:
+                args = list(map(convert, e.args))
+                r = _BUILD[kind](*(a[0] for a in args))
+                done = (r, (_class_key(type(r)), len(args), *(a[1] for a in args)), any(a[2] for a in args))
+            else:
+                if e.is_Integer:
+                    r = sp.Integer(int(e))
+                else:
+                    r = e._sympy_()
+                    r = r.xreplace({s: self._by_name[s.name] for s in r.free_symbols})
+                done = (r, sort_key(r), False)
+            memo[e] = done
+            return done
 
-        expr = convert(x)
+        expr, _, collected = convert(x)
         return expr, None if collected else [symbol[s] for s in x.free_symbols]
+
+
+@cache
+def _class_key(kind: type) -> tuple:
+    """The place of a class in sympy's canonical order (`Basic.compare`): its index in
+    `ordering_of_classes`, else after them all by name."""
+    order = sp.core.basic.ordering_of_classes
+    name = kind.__name__
+    return (order.index(name), "") if name in order else (len(order) + 1, name)
+
+
+def sort_key(e: sp.Basic) -> tuple:
+    """A key that orders sympy objects as `Basic.compare` does: the class, the length of the hashable
+    content, then its items one by one (sympy objects by their keys)."""
+    content = e._hashable_content()
+    return (_class_key(type(e)), len(content),
+            *(sort_key(c) if isinstance(c, sp.Basic) else sort_key(sp.Basic(*c)) if isinstance(c, frozenset)
+              else c for c in content))
 
 
 _ORDER = cmp_to_key(sp.Basic.compare)
 
 
-def _ordered(head, args: tuple):
-    """head(*args) of arguments that are already collected (symengine's sums and products are): sympy's
-    canonical order (the number first, the rest by `Basic.compare`, as its `flatten` sorts) without
-    collecting them again."""
-    numbers, rest = [a for a in args if a.is_Number], [a for a in args if not a.is_Number]
-    if len(rest) == 2:
-        if rest[0].compare(rest[1]) > 0:
-            rest.reverse()
-    else:
-        rest.sort(key=_ORDER)
-    return head._from_args(numbers + rest, is_commutative=True)  # the model refuses others (`values`)
+def _ordered(head, args: list[tuple]) -> tuple:
+    """(head(*args), its `sort_key`) of converted arguments (sympy form, sort key, ...) that are already
+    collected (symengine's sums and products are): sympy's canonical order (the number first, the rest
+    by `Basic.compare`, as its `flatten` sorts) without collecting them again."""
+    numbers, rest = [a for a in args if a[0].is_Number], [a for a in args if not a[0].is_Number]
+    try:
+        if len(rest) == 2:
+            if rest[0][1] > rest[1][1]:
+                rest.reverse()
+        else:
+            rest.sort(key=itemgetter(1))
+    except TypeError:  # items that Python cannot order (symbols of one name, told apart by a tag)
+        rest.sort(key=lambda a: _ORDER(a[0]))
+    args = numbers + rest
+    expr = head._from_args([a[0] for a in args], is_commutative=True)  # the model refuses others (`values`)
+    return expr, (_class_key(head), len(args), *(a[1] for a in args))
 
 
 _BUILD = {} if se is None else {se.Pow: lambda b, e: sp.Pow(b, e, evaluate=False),
