@@ -3,6 +3,8 @@
 - A sympy expression taken into symengine and back is the same function of the same symbols: symbols of
   one name but other assumptions, eomgen's own names and the engine's token names stay apart (hypothesis,
   40-digit evaluation).
+- Both engines' partial derivatives (the chain rule's ∂e/∂y) are the same sympy expression and equal sympy's
+  `diff` (hypothesis, 40 digits).
 - Both engines' sources are byte for byte the same and their numbers equal Pinocchio's and each other's
   (1e-13) on robots of example-robot-data (every robot under `slow`; allegro's hand once printed an unused
   intermediate from symengine, whose symbols had cancelled in sympy), and the sympy engine equals
@@ -79,6 +81,33 @@ def test_sums_and_products_come_back_in_sympys_order():
     for expr in (a + 2 * b + c ** 2, 3 * a * b * sp.sin(c), a * b - c / 5 + 1, sp.cos(a) * sp.sin(b)):
         back = eng.to_sympy(eng.scalar(expr))
         assert back == expr and hash(back) == hash(expr) and back.args == expr.args
+
+
+def plain_expressions():
+    """Sums, products, integer powers and square roots of the leaves and of their sin and cos (what the
+    engines' `diff` takes: the hot core's sin and cos are of coordinates; symengine writes sin(x − 2/7) as
+    −sin(2/7 − x), another expression of the same function)."""
+    leaf = st.one_of(st.sampled_from(LEAVES), st.sampled_from(LEAVES).map(sp.sin),
+                     st.sampled_from(LEAVES).map(sp.cos))
+    return st.recursive(leaf, lambda inner: st.one_of(
+        st.tuples(inner, inner).map(lambda a: a[0] + a[1]),
+        st.tuples(inner, inner).map(lambda a: a[0] * a[1]),
+        st.tuples(inner, st.integers(-3, 3)).map(lambda a: a[0] ** a[1] if a[0] != 0 or a[1] > 0 else a[0]),
+        inner.map(lambda a: sp.sqrt(a ** 2 + 1))), max_leaves=12)
+
+
+@settings(max_examples=200, deadline=None, derandomize=True, database=None)
+@given(expr=plain_expressions())
+def test_both_engines_differentiate_to_the_same_expression_as_sympy_diff(expr):
+    """∂e/∂y from each engine's `diff` (the chain rule's partials) is the same sympy expression, object
+    for object (so the derivatives' sources match), and equals sympy's own `diff` (40 digits)."""
+    reference, fast = engine.make_engine("sympy"), engine.make_engine("symengine")
+    values = {s: sp.Float(0.3 + 0.17 * k, 40) for k, s in enumerate(LEAVES) if isinstance(s, sp.Symbol)}
+    for y in sorted(expr.free_symbols, key=str):
+        ours = reference.to_sympy(reference.diff(expr, y))
+        assert sp.srepr(fast.to_sympy(fast.diff(fast.scalar(expr), fast.scalar(y)))) == sp.srepr(ours)
+        a, b = at(ours, values), at(sp.diff(expr, y), values)
+        assert abs(a - b) <= 1e-25 * max(1, abs(b)), (expr, y, ours)
 
 
 # --- both engines on robots -----------------------------------------------------------------------

@@ -85,8 +85,15 @@ class Sympy:
     def scalars(self, x: Sequence) -> tuple:
         return vector(x)
 
+    def remember(self, x, engine_form) -> None:
+        """Nothing to remember: sympy is the engine."""
+
     def to_sympy(self, x):
-        return x
+        return sp.sympify(x)
+
+    def diff(self, e: sp.Expr, y: sp.Symbol) -> sp.Expr:
+        """∂e/∂y (`partial`)."""
+        return partial(e, y, sp.Mul, sp.sin, sp.cos)
 
 
 class Symengine:
@@ -130,6 +137,14 @@ class Symengine:
 
     def scalars(self, x: Sequence) -> tuple:
         return tuple(map(self.scalar, vector(x)))
+
+    def remember(self, x: sp.Expr, engine_form) -> None:
+        """x (sympy) is `engine_form` in the engine: `scalar` answers it without converting."""
+        self._in.setdefault(x, engine_form)
+
+    def diff(self, e, y):
+        """∂e/∂y in the engine (`partial`; its products as sympy forms them, `product`)."""
+        return partial(e, y, product, se.sin, se.cos)
 
     def to_sympy(self, x):
         """The sympy expression of an engine scalar (`definition`)."""
@@ -198,6 +213,39 @@ def sort_key(e: sp.Basic) -> tuple:
     return (_class_key(type(e)), len(content),
             *(sort_key(c) if isinstance(c, sp.Basic) else sort_key(sp.Basic(*c)) if isinstance(c, frozenset)
               else c for c in content))
+
+
+def product(*factors):
+    """Π factors in symengine, as sympy forms a product: a number times a sum distributed (symengine
+    keeps that pair), so that what is built from it next has sympy's form."""
+    p = se.Mul(*factors)
+    if type(p) is se.Mul and len(p.args) == 2:
+        number, rest = p.args if p.args[0].is_Number else p.args[::-1]
+        if number.is_Number and type(rest) is se.Add:
+            return se.Add(*[number * term for term in rest.args])
+    return p
+
+
+def partial(e, y, mul, sin, cos):
+    """∂e/∂y of a sum, product, power (a number's), sin, cos or atom, by the rules, in either engine
+    (its Mul, sin, cos): Σ_k a_1 ⋯ ∂a_k ⋯ a_n for a product, each formed in one `mul`, n b^(n−1) ∂b,
+    cos a ∂a, −sin a ∂a. Each step forms what sympy would form, so both engines give one expression."""
+    if e == y:
+        return 1
+    if e.is_Atom:
+        return 0
+    if e.is_Add:
+        return total_of([partial(a, y, mul, sin, cos) for a in e.args])
+    if e.is_Mul:
+        return total_of([mul(*e.args[:k], da, *e.args[k + 1:])
+                         for k, a in enumerate(e.args) if (da := partial(a, y, mul, sin, cos)) != 0])
+    a = e.args[0]
+    da = partial(a, y, mul, sin, cos)
+    if da == 0:
+        return 0
+    if e.is_Pow:
+        return mul(e.args[1], a ** (e.args[1] - 1), da)
+    return mul(cos(a), da) if type(e) is sin else mul(-1, sin(a), da)
 
 
 _ORDER = cmp_to_key(sp.Basic.compare)

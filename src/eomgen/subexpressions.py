@@ -8,7 +8,8 @@ the chain rule through the definitions,
     d f / d s  =  Σ_y  ∂f/∂y · d y / d s,     d x_k / d s = d e_k / d s   (a new intermediate),
 
 so a derivative is as cheap as the definitions it touches, and code generation can print the
-intermediates once each.
+intermediates once each. The partials ∂e_k/∂y are taken once per definition, in the engine
+(`engine.partial`), and serve every direction.
 """
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ from collections.abc import Iterable, Mapping
 
 import sympy as sp
 
-from .engine import Sympy, Symengine, make_engine, se
+from .engine import Sympy, Symengine, make_engine, se, total_of
 from .symbols import Generated
 
 
@@ -42,6 +43,9 @@ _RULES = {sp.sin: lambda a, f: sp.cos(a), sp.cos: lambda a, f: -sp.sin(a), sp.ta
           sp.Abs: lambda a, f: sp.sign(a)}
 
 
+_PLAIN = (sp.Add, sp.Mul, sp.Pow, sp.sin, sp.cos)
+
+
 def samples(q: Iterable[sp.Symbol], parameters: Iterable[sp.Symbol], count: int) -> list[dict]:
     """`count` random points for `Subexpressions.evaluate` (seeded): q uniform in [−π, π], parameters in
     [0.5, 1.5]."""
@@ -62,8 +66,11 @@ class Subexpressions:
         self._index: dict[sp.Symbol, int] = {}
         self._named: dict[sp.Expr, sp.Symbol] = {}
         self._uses: dict[sp.Symbol, tuple] = {}
-        self._derivatives: dict[tuple, sp.Expr] = {}
+        self._symbols: list[sp.Symbol] = []  # by index
+        self._derivatives: dict = {}  # {direction: {index of an intermediate: its derivative}}
+        self._needs: dict[sp.Expr, list[int]] = {}  # the indices of `dependencies`, by expression
         self._inlined: dict[sp.Symbol, sp.Expr] = {}
+        self._gradients: dict[sp.Expr, list | None] = {}
 
     def __len__(self) -> int:
         return len(self.definitions)
@@ -78,6 +85,7 @@ class Subexpressions:
                 return expr
             if expr not in self._named_engine:
                 definition, symbols = self.engine.definition(expr)
+                self.engine.remember(definition, expr)
                 name = self._name(definition, symbols)
                 self._named_engine[expr] = self.engine.scalar(name)
             return self._named_engine[expr]
@@ -129,12 +137,46 @@ class Subexpressions:
         and the chain rule for the intermediates, but for an intermediate that `seeds` holds (its
         derivative is then its seed: a prescribed motion's variable, whose rate is named). `key` names
         the direction (memoization)."""
-        expr = sp.sympify(expr)
-        for s in self.dependencies([expr]):
-            if (s, key) not in self._derivatives:
-                self._derivatives[(s, key)] = seeds[s] if s in seeds else \
-                    self.add(self._direct(self.definitions[s], seeds, key))
-        return self._direct(expr, seeds, key)
+        expr, known = sp.sympify(expr), self._derivatives.setdefault(key, {})
+        if expr not in self._needs:
+            self._needs[expr] = [self._index[s] for s in self.dependencies([expr])]
+        for k in self._needs[expr]:
+            if k not in known:
+                s = self._symbols[k]
+                known[k] = seeds[s] if s in seeds else \
+                    self.add(self._chain(self.definitions[s], seeds, known))
+        return self.engine.to_sympy(self._chain(expr, seeds, known))
+
+    def _chain(self, expr: sp.Expr, seeds: Mapping[sp.Symbol, sp.Expr], known: dict):
+        """The derivative of one definition (or expression) in the engine, Σ_y ∂expr/∂y · ẏ (`gradient`),
+        or by `_direct` where expr holds more than sums, products, powers, sin, cos and atoms."""
+        partials = self.gradient(expr)
+        if partials is None:
+            return self._direct(expr, seeds, known)
+        terms = []
+        for y, k, partial in partials:
+            dy = known[k] if k >= 0 else seeds.get(y, 0)
+            if dy != 0:
+                terms.append(partial * self.engine.scalar(dy))
+        return total_of(terms)
+
+    def gradient(self, expr: sp.Expr) -> list[tuple] | None:
+        """[(y, its index (-1: not an intermediate), ∂expr/∂y in the engine)] over expr's symbols y in a
+        fixed order (intermediates by index, then by name), once per expression; None where expr holds
+        more than sums, products, powers, sin, cos and atoms (`_direct` differentiates it)."""
+        if expr not in self._gradients:
+            stack, plain = [expr], True
+            while stack and plain:
+                e = stack.pop()
+                if not e.is_Atom:
+                    plain = type(e) in _PLAIN and not (e.is_Pow and not e.exp.is_Number)
+                    stack.extend(e.args)
+            e = self.engine.scalar(expr) if plain else None
+            self._gradients[expr] = None if not plain else [
+                (y, k, self.engine.diff(e, self.engine.scalar(y)))
+                for k, y in sorted(((self._index.get(y, -1), y) for y in expr.free_symbols),
+                                   key=lambda ky: (ky[0], ky[1].name))]
+        return self._gradients[expr]
 
     def define(self, symbol: sp.Symbol, expr: sp.Expr, symbols=None) -> sp.Symbol:
         """Name `expr` by the given `symbol` (one of eomgen's, new here), an intermediate like the others;
@@ -142,12 +184,13 @@ class Subexpressions:
         if symbol in self.definitions:
             raise ValueError(f"{symbol} is defined already")
         self._index[symbol] = len(self.definitions)
+        self._symbols.append(symbol)
         symbols = sp.sympify(expr).free_symbols if symbols is None else symbols
         self._uses[symbol] = tuple(s for s in symbols if s in self.definitions)
         self.definitions[symbol] = sp.sympify(expr)
         return symbol
 
-    def _direct(self, expr: sp.Expr, seeds: Mapping[sp.Symbol, sp.Expr], key) -> sp.Expr:
+    def _direct(self, expr: sp.Expr, seeds: Mapping[sp.Symbol, sp.Expr], known: dict) -> sp.Expr:
         """Forward-mode derivative of one definition: sum, product, power and the rules of the functions
         the printers cover (real arguments: d|a| = sign(a) da, sign and Heaviside constant, Min / Max
         by their branches), the symbols' derivatives from the seeds and the memo."""
@@ -157,7 +200,7 @@ class Subexpressions:
             if e in memo:
                 return memo[e]
             if e.is_Symbol:
-                r = self._derivatives[(e, key)] if e in self.definitions else seeds.get(e, 0)
+                r = self.engine.to_sympy(known[self._index[e]]) if e in self.definitions else seeds.get(e, 0)
             elif e.is_Number or isinstance(e, (sp.sign, sp.Heaviside)):
                 r = 0
             elif e.is_Add:
