@@ -84,6 +84,28 @@ def test_a_damaged_entry_is_rebuilt_in_a_fresh_process(damage, built, tmp_path):
     assert module.stat().st_ino != before  # a new file moved in
 
 
+@pytest.mark.parametrize("damage", ["truncated", "no checksum", "is a folder"])
+def test_a_damaged_shared_glue_is_compiled_again(damage, built, tmp_path):
+    """The glue every module links (glue_<hash>.o, one per cache), damaged, with the arm's module gone:
+    the next module built compiles the glue again and equals the NumPy backend."""
+    cache = tmp_path / "cache"
+    shutil.copytree(built, cache)
+    (glue,) = cache.glob("glue_*.o")
+    checksum = glue.with_name(glue.name + ".sha256")
+    assert checksum.read_text().strip() == hashlib.sha256(glue.read_bytes()).hexdigest()
+    for path in _entry(cache):
+        path.unlink()
+    if damage == "truncated":
+        glue.write_bytes(glue.read_bytes()[:1000])
+    if damage == "no checksum":
+        checksum.unlink()
+    if damage == "is a folder":
+        glue.unlink()
+        (glue / "inside").mkdir(parents=True)
+    assert _fresh_process(cache) < 1e-12
+    assert checksum.read_text().strip() == hashlib.sha256(glue.read_bytes()).hexdigest()
+
+
 def test_a_module_that_never_loads_is_a_clear_error(tmp_path, monkeypatch):
     """A 'compiler' that writes garbage: rebuilt once, then a ModelError naming the module."""
     fake = tmp_path / "fake-cc"

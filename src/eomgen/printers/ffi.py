@@ -84,19 +84,20 @@ static int run(eomgen_fn f, int i, const int *idx, int nt, int64_t size, XLA_FFI
         in[k] = count[k] == 1 && k > 0 ? x[k]->data : rows_of(x[k], L, lead, n, widths[k], &copies[k]);
     int failed = in[0] == NULL || in[1] == NULL || in[2] == NULL || in[3] == NULL;
     int64_t su = count[1] == 1 ? 0 : NV, sud = count[2] == 1 ? 0 : NV;
-    eomgen_any v = count[3] == 1 && n > 1 ? lanes[i] : NULL;  /* W states at a time, every entry written */
+    /* W states at a time, every entry written */
+    eomgen_any v = count[3] == 1 && n > 1 ? state.lanes[i] : NULL;
     if (!failed && !v)
         memset(out, 0, sizeof(double) * (size_t)(n * size));
     if (failed)
         ;
     else if (v)
-        failed = batch_vector(v, idx, nt, size, n, in[0], in[1], su, in[2], sud, in[3], out);
+        failed = state.batch_vector(v, idx, nt, size, n, in[0], in[1], su, in[2], sud, in[3], out);
     else if (count[3] == 1 && n > 1)
-        failed = batch(f, idx, nt, size, n, in[0], in[1], su, in[2], sud, in[3], out);
+        failed = eomgen_batch(&state, f, idx, nt, size, n, in[0], in[1], su, in[2], sud, in[3], out);
     else  /* one state, or a p per state */
         for (int64_t k = 0; k < n; ++k)
-            one_state(f, idx, nt, in[0] + k * NQ, in[1] + k * su, in[2] + k * sud,
-                      in[3] + (count[3] > 1) * k * NP, out + k * size);
+            eomgen_one_state(&state, f, idx, nt, in[0] + k * NQ, in[1] + k * su, in[2] + k * sud,
+                             in[3] + (count[3] > 1) * k * NP, out + k * size);
     for (int k = 0; k < 4; ++k)
         free(copies[k]);
     return failed ? -1 : 0;
@@ -154,7 +155,7 @@ static XLA_FFI_Error *ffi_evaluate(XLA_FFI_CallFrame *frame, eomgen_fn f, int i,
             failed = widen(given[k], count[k] * widths[k], &wide[k], &data[k]);
             x[k] = &wide[k];
         }
-        if (!failed && !all_finite(x[k]->data, count[k] * widths[k])) {
+        if (!failed && !eomgen_all_finite(x[k]->data, count[k] * widths[k])) {
             for (int j = 0; j <= k; ++j)
                 free(data[j]);
             return ffi_error(frame, messages[k]);
@@ -189,6 +190,6 @@ def handlers(shapes: list[tuple[tuple[int, int], int]], jaxlib: str) -> tuple[st
     capsules = ", ".join(f"PyCapsule_New((void *)x{i}, NULL, NULL)" for i in range(len(shapes)))
     text.append("static PyObject *ffi(PyObject *self, PyObject *unused)\n{\n"
                 "    /* the vector functions attached (the hook of the first batch), then the handlers */\n"
-                "    if (run_hook() < 0)\n        return NULL;\n"
+                "    if (eomgen_run_hook(&state) < 0)\n        return NULL;\n"
                 f"    return Py_BuildValue(\"({'N' * len(shapes)})\", {capsules});\n}}\n")
     return "\n".join(text), ['    {"_ffi", ffi, METH_NOARGS, NULL},']

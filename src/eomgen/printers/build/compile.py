@@ -15,6 +15,7 @@ import math
 import os
 import re
 import subprocess
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
@@ -128,10 +129,12 @@ def build_library(
     attempts: tuple[list[str], ...],
     folder: Path,
     library: Path,
+    shared: Callable[[list[str]], str] | None = None,
 ) -> None:
     """Compile `glue` (the module's entry points) and the `units` in `folder` and link them into
-    `library`: with the first of `attempts` (options for the glue and the link) that builds here; a
-    ModelError with the compiler's message naming the unit that fails."""
+    `library`, with `shared(options)` (an object compiled apart, for those options) where given: with the
+    first of `attempts` (options for the glue and the link) that builds here; a ModelError with the
+    compiler's message naming the unit that fails."""
     objects, commands = [], {}
     for k, unit in enumerate(units):
         c_file = folder / f"unit{k}.c"
@@ -150,11 +153,13 @@ def build_library(
             raise ModelError(f"the C compiler failed on {units_failed[0][:2000]}")
         commands = {}  # compiled
         if "the module" not in failed:
-            link = subprocess.run(
-                [compiler, "-shared", glue_object, *objects, *options, "-o", str(library)],
-                capture_output=True,
-                text=True,
-            )
+            try:
+                linked = [glue_object, *objects, *([shared(options)] if shared else [])]
+            except ModelError as error:
+                failed["the module"] = str(error)
+                continue
+            link = subprocess.run([compiler, "-shared", *linked, *options, "-o", str(library)],
+                                  capture_output=True, text=True)
             if link.returncode == 0:
                 return
             failed["the module"] = link.stderr

@@ -80,7 +80,7 @@ HANDOVER = r"""/* the vector functions w<i> (NULL: none) and their batched loop,
 typedef void (*eomgen_any)(void);
 typedef int (*eomgen_driver)(eomgen_any, const int *, int, npy_intp, npy_intp, const double *,
                              const double *, npy_intp, const double *, npy_intp, const double *, double *);
-typedef struct { eomgen_driver driver; eomgen_any table[NF]; } eomgen_lanes;
+typedef struct { eomgen_driver driver; const eomgen_any *table; } eomgen_lanes;
 """
 
 # the batched loop of the module of vector functions (`driver`: for a function handed over)
