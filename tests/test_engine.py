@@ -4,7 +4,8 @@
   one name but other assumptions, eomgen's own names and the engine's token names stay apart (hypothesis,
   40-digit evaluation).
 - Both engines' partial derivatives (the chain rule's ∂e/∂y) are the same sympy expression and equal sympy's
-  `diff` (hypothesis, 40 digits).
+  `diff` (hypothesis, 40 digits); sin of a sum, which symengine writes otherwise, is differentiated the
+  same from both; a name whose terms cancel in sympy leaves the symbols apart; pickles drop the caches.
 - Both engines' sources are byte for byte the same and their numbers equal Pinocchio's and each other's
   (1e-13) on robots of example-robot-data (every robot under `slow`; allegro's hand once printed an unused
   intermediate from symengine, whose symbols had cancelled in sympy), and the sympy engine equals
@@ -34,6 +35,7 @@ from eomgen import engine
 from eomgen.errors import ModelError
 from eomgen.model.urdf import pinocchio_configuration
 from eomgen.printers.module import module_source
+from eomgen.subexpressions import Subexpressions
 from eomgen.symbols import Generated
 
 ENGINES = ("sympy", "symengine")
@@ -108,6 +110,46 @@ def test_both_engines_differentiate_to_the_same_expression_as_sympy_diff(expr):
         assert sp.srepr(fast.to_sympy(fast.diff(fast.scalar(expr), fast.scalar(y)))) == sp.srepr(ours)
         a, b = at(ours, values), at(sp.diff(expr, y), values)
         assert abs(a - b) <= 1e-25 * max(1, abs(b)), (expr, y, ours)
+
+
+def test_a_name_whose_terms_cancel_in_sympy_keeps_the_symbols_apart():
+    """symengine keeps 2 (a/2 + b) − 2 b, whose sympy form is the symbol a: naming it must not make `a`
+    stand for that engine expression (the derivatives of a would be lost)."""
+    a, b, c = sp.symbols("a b c")
+    sub = Subexpressions(engine="symengine")
+    sub.scalar(sp.sin(a) + b * c)  # a and b met inside an expression only
+    A, B = sub.engine.token(a), sub.engine.token(b)
+    sub.add(2 * (A / 2 + B) - 2 * B)
+    assert sub.derivative(a * c, {a: 1}, "a") == c and sub.scalar(a) == A
+
+
+def test_sin_of_a_sum_differentiates_to_one_expression_in_both_engines():
+    """Expressions that do not come from the hot core (loads, sympy's own terms) may hold sin and cos of
+    sums, which symengine writes otherwise (sin(a − b) as −sin(b − a)): their derivative is the same
+    object from both engines, and sympy's diff."""
+    a, b, x, y = sp.symbols("a b x y")
+    expr, seeds = x * sp.sin(a - b) + sp.cos(2 * a) * b, {a: 1, x: y, b: 1}
+    results = [Subexpressions(engine=e).derivative(expr, seeds, "t") for e in ENGINES]
+    assert sp.srepr(results[0]) == sp.srepr(results[1])
+    direct = sum(sp.diff(expr, s) * v for s, v in seeds.items())
+    assert sp.expand(results[0] - direct) == 0
+
+
+def test_equations_pickle_without_the_engines_caches():
+    """The partials, dependency lists and conversions are dropped from a pickle (sweep sends and hashes
+    it) and rebuilt after: the derivatives come out the same."""
+    import pickle
+
+    from models import spatial_arm_3dof
+    eom = eg.derive(spatial_arm_3dof(), method="lagrange")
+    sub = eom.kinematics.sub
+    q = list(eom.system.q)
+    before = sub.derivative(eom.M[0, 1], {q[1]: 1}, ("test", 1))
+    assert sub._gradients and sub.engine._out
+    loaded = pickle.loads(pickle.dumps(eom))
+    again = loaded.kinematics.sub
+    assert not again._gradients and not again._needs and not again.engine._out
+    assert again.derivative(loaded.M[0, 1], {q[1]: 1}, ("test", 2)) == before
 
 
 # --- both engines on robots -----------------------------------------------------------------------

@@ -139,8 +139,13 @@ class Symengine:
         return tuple(map(self.scalar, vector(x)))
 
     def remember(self, x: sp.Expr, engine_form) -> None:
-        """x (sympy) is `engine_form` in the engine: `scalar` answers it without converting."""
+        """x (sympy, converted from `engine_form` without collecting terms) is `engine_form` in the
+        engine: `scalar` answers it without converting."""
         self._in.setdefault(x, engine_form)
+
+    def __getstate__(self) -> dict:
+        """Pickled without the conversions to sympy (`_out`), which are rebuilt on demand."""
+        return {**self.__dict__, "_out": {}}
 
     def diff(self, e, y):
         """∂e/∂y in the engine (`partial`; its products as sympy forms them, `product`)."""
@@ -229,7 +234,8 @@ def product(*factors):
 def partial(e, y, mul, sin, cos):
     """∂e/∂y of a sum, product, power (a number's), sin, cos or atom, by the rules, in either engine
     (its Mul, sin, cos): Σ_k a_1 ⋯ ∂a_k ⋯ a_n for a product, each formed in one `mul`, n b^(n−1) ∂b,
-    cos a ∂a, −sin a ∂a. Each step forms what sympy would form, so both engines give one expression."""
+    cos a ∂a, −sin a ∂a. Each step forms what sympy would form, so both engines give one expression for
+    the same input (sin and cos of atoms: symengine writes sin(a − b) as −sin(b − a))."""
     if e == y:
         return 1
     if e.is_Atom:

@@ -75,6 +75,10 @@ class Subexpressions:
     def __len__(self) -> int:
         return len(self.definitions)
 
+    def __getstate__(self) -> dict:
+        """Pickled without the caches that are rebuilt on demand (partials, dependency lists)."""
+        return {**self.__dict__, "_gradients": {}, "_needs": {}}
+
     def add(self, expr: sp.Expr) -> sp.Expr:
         """Name `expr` as a new intermediate (unless trivial) and return the name; an engine scalar
         is named by its sympy form and answered in the engine (an integer as the engine's)."""
@@ -85,7 +89,8 @@ class Subexpressions:
                 return expr
             if expr not in self._named_engine:
                 definition, symbols = self.engine.definition(expr)
-                self.engine.remember(definition, expr)
+                if symbols is not None and not is_trivial(definition):  # not collected: the same terms
+                    self.engine.remember(definition, expr)
                 name = self._name(definition, symbols)
                 self._named_engine[expr] = self.engine.scalar(name)
             return self._named_engine[expr]
@@ -149,7 +154,7 @@ class Subexpressions:
 
     def _chain(self, expr: sp.Expr, seeds: Mapping[sp.Symbol, sp.Expr], known: dict):
         """The derivative of one definition (or expression) in the engine, Σ_y ∂expr/∂y · ẏ (`gradient`),
-        or by `_direct` where expr holds more than sums, products, powers, sin, cos and atoms."""
+        or by `_direct` where `gradient` gives none."""
         partials = self.gradient(expr)
         if partials is None:
             return self._direct(expr, seeds, known)
@@ -163,13 +168,15 @@ class Subexpressions:
     def gradient(self, expr: sp.Expr) -> list[tuple] | None:
         """[(y, its index (-1: not an intermediate), ∂expr/∂y in the engine)] over expr's symbols y in a
         fixed order (intermediates by index, then by name), once per expression; None where expr holds
-        more than sums, products, powers, sin, cos and atoms (`_direct` differentiates it)."""
+        more than sums, products, numbers' powers, sin and cos of atoms (`_direct` differentiates it:
+        symengine would write sin(a − b) as −sin(b − a))."""
         if expr not in self._gradients:
             stack, plain = [expr], True
             while stack and plain:
                 e = stack.pop()
                 if not e.is_Atom:
-                    plain = type(e) in _PLAIN and not (e.is_Pow and not e.exp.is_Number)
+                    plain = type(e) in _PLAIN and not (e.is_Pow and not e.exp.is_Number) \
+                        and not (isinstance(e, TRIG) and not e.args[0].is_Atom)
                     stack.extend(e.args)
             e = self.engine.scalar(expr) if plain else None
             self._gradients[expr] = None if not plain else [

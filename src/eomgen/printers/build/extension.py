@@ -210,14 +210,13 @@ def build(functions: list[tuple[str, tuple, list[int]]], nq: int, nv: int, n_par
     with the module's glue, once (`compiled`)."""
     header, units = translation_units([source for source, _, _ in functions])
     layout = [(optimisation(unit), unit.text) for unit in units]
-    shapes = [(shape, trig) for _, shape, trig in functions]
+    entries = [(header if i == 0 else "", shape, trig) for i, (_, shape, trig) in enumerate(functions)]
 
     def make(name: str, target: Path) -> None:
-        entries = [(header if i == 0 else "", shape, trig) for i, (shape, trig) in enumerate(shapes)]
         compile_module(module_source(name, entries, nq, nv, n_params, extra), units, target, include, True)
 
-    content = (RUNTIME, header, layout, shapes, nq, nv, n_params)
-    content += (extra, include) if include else ()
+    # all the module is made of: the shared glue, its own glue text (but its name) and its units
+    content = (RUNTIME, module_source("", entries, nq, nv, n_params, extra), layout, include)
     return compiled(content, make)
 
 

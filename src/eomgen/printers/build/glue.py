@@ -104,11 +104,13 @@ static PyArrayObject *input(PyObject *x, const char *name, npy_intp n, int nd, n
         return NULL;
     int last = PyArray_NDIM(a) - 1;
     int ok = nd < 0 ? ((last == 0 || last == 1) && PyArray_DIM(a, last) == n)
-                    : (last == nd - 1 && PyArray_DIM(a, last) == n && (nd == 1 || PyArray_DIM(a, 0) == batch));
+                    : (last == nd - 1 && PyArray_DIM(a, last) == n
+                       && (nd == 1 || PyArray_DIM(a, 0) == batch));
     if (!ok) {
         shape_text(got, sizeof got, (PyObject *)a);
         if (nd < 0)
-            PyErr_Format(PyExc_ValueError, "%s: expected shape (%ld,) or (N, %ld), got %s", name, (long)n, (long)n, got);
+            PyErr_Format(PyExc_ValueError, "%s: expected shape (%ld,) or (N, %ld), got %s", name, (long)n,
+                         (long)n, got);
         else {
             if (nd == 1) snprintf(want, sizeof want, "(%ld,)", (long)n);
             else snprintf(want, sizeof want, "(%ld, %ld)", (long)batch, (long)n);
