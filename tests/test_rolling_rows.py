@@ -8,7 +8,7 @@ import mpmath
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 import eomgen as eg
 from eomgen.errors import ModelError
@@ -120,11 +120,13 @@ def closed_forms_mp(q, u):
 
 @settings(max_examples=10, deadline=None)
 @given(st.sampled_from([1e-3, 1e-5, 1e-6, 1e-7]), st.floats(-3, 3), st.sampled_from([1, -1]))
+@example(1e-5, 2.65625, -1)  # 1.1e-15 / eps, the worst found (so before and after the chain rule's partials)
 def test_contact_rows_near_flat_equal_mpmath(eps, psi, side):
     """eps rad from lying flat (lean ±(π/2 − eps)), J_c equals the closed form in 40-digit mpmath to 1e-9
     relative (was 1e-5 at 1e-6 rad: √(1 − (e · n)²) cancelled); J̇_c u (= d/dt (J_c(q + t u) u) at t = 0 by
-    mpmath's differentiation) to 1e-15 / eps: ċ by the chain rule through c = ρ e × (e × n) / s loses
-    the digits of ε / s (1e-9 at 1e-6 rad, half of them at the flat disk's limit √ε)."""
+    mpmath's differentiation) to 2e-15 / eps (about 9 units of rounding over eps; 1.1e-15 / eps seen): ċ by
+    the chain rule through c = ρ e × (e × n) / s loses the digits of ε / s (1e-9 at 1e-6 rad, half of them
+    at the flat disk's limit √ε)."""
     f = numeric_disk()
     q = np.array([0.1, -0.2, 0.3, psi, side * (np.pi / 2 - eps), 0.5])
     u = np.array([0.3, -0.1, 0.2, 0.5, -0.4, 1.0])
@@ -134,4 +136,4 @@ def test_contact_rows_near_flat_equal_mpmath(eps, psi, side):
         Jdot_u = np.array([float(mpmath.diff(lambda t: closed_forms_mp(
             [a + t * b for a, b in zip(qm, um)], um)[i], 0)) for i in range(3)])
     assert np.abs(f.contact_jacobian(q) - J).max() <= 1e-9 * np.abs(J).max()
-    assert np.abs(f.contact_jacobian_dot_u(q, u) - Jdot_u).max() <= 1e-15 / eps * np.abs(Jdot_u).max()
+    assert np.abs(f.contact_jacobian_dot_u(q, u) - Jdot_u).max() <= 2e-15 / eps * np.abs(Jdot_u).max()
