@@ -10,7 +10,8 @@ from __future__ import annotations
 import sympy as sp
 
 from .errors import ModelError
-from .linalg import cross, matmul, scale
+from . import linalg
+from .engine import vector
 from .model import FlexibleLink
 from .model.loads import Point
 
@@ -33,26 +34,35 @@ def total_mass(kin) -> sp.Expr:
 
 def com(kin) -> sp.Matrix:
     """c = Σ m_i r_Si / m."""
-    total = sum((scale(b.mass, kin.com(b)) for b in moving(kin)), sp.zeros(3, 1))
-    return kin.sub.add_matrix(total / total_mass(kin))
+    return sp.Matrix(_com(kin))
+
+
+def _com(kin) -> tuple:
+    total = linalg.total(linalg.scale(b.mass, vector(kin.com(b))) for b in moving(kin))
+    return kin.sub.add_matrix(tuple(x / total_mass(kin) for x in total))
 
 
 def com_jacobian(kin) -> sp.Matrix:
     """J_com = Σ m_i J_P(S_i) / m (3 × n)."""
-    J = sum((scale(b.mass, kin.J_P(Point(b, b.com))) for b in moving(kin)), sp.zeros(3, kin.n))
-    return J / total_mass(kin)
+    m, n = total_mass(kin), kin.n
+    J = linalg.total((linalg.scale(b.mass, vector(kin.J_P(Point(b, b.com)))) for b in moving(kin)),
+                     (0,) * (3 * n))
+    return sp.Matrix(3, n, [x / m for x in J])
 
 
 def centroidal_momentum_matrix(kin) -> sp.Matrix:
-    """A_G (6 × n): rows [linear momentum; angular momentum about c] per unit speed."""
-    c = com(kin)
-    A = sp.zeros(6, kin.n)
-    for b in moving(kin):
-        J_P, J_R = kin.J_P(Point(b, b.com)), kin.J_R(b)
-        arm = kin.sub.add_matrix(kin.com(b) - c)
-        Theta = kin.inertia_world(b)
-        for j in range(kin.n):
-            p = scale(b.mass, J_P[:, j])
-            A[:3, j] += p
-            A[3:, j] += matmul(Theta, J_R[:, j]) + cross(arm, p)
-    return A
+    """A_G (6 × n): rows [linear momentum; angular momentum about c] per unit speed; column j of a body's
+    part is [m_i J_P,j;  Θ_i J_R,j + (r_Si − c) × m_i J_P,j]."""
+    c, n = _com(kin), kin.n
+
+    def columns(b) -> tuple:  # the body's part, column by column
+        J_P, J_R = vector(kin.J_P(Point(b, b.com))), vector(kin.J_R(b))
+        arm = kin.sub.add_matrix(linalg.subtract(vector(kin.com(b)), c))
+        Theta, part = vector(kin.inertia_world(b)), []
+        for j in range(n):
+            p = linalg.scale(b.mass, J_P[j::n])
+            part += p + linalg.add(linalg.apply(Theta, J_R[j::n]), linalg.cross(arm, p))
+        return tuple(part)
+
+    A = linalg.total(map(columns, moving(kin)), (0,) * (6 * n))  # column by column
+    return sp.Matrix(n, 6, A).T

@@ -45,10 +45,13 @@ def subtract(a: Sequence, b: Sequence) -> tuple:
 
 
 def total(terms, start: Sequence = ZERO) -> tuple:
-    """start + Σ terms, entry by entry, left to right."""
+    """start + Σ terms, entry by entry, each entry summed once (a running sum would sort the terms it
+    holds again at every step: quadratic in the terms)."""
+    entries = [[x] for x in start]
     for term in terms:
-        start = add(start, term)
-    return tuple(start)
+        for entry, x in zip(entries, term):
+            entry.append(x)
+    return tuple(map(total_of, entries))
 
 
 def scale(s, A):

@@ -20,7 +20,8 @@ import sympy as sp
 
 from .eom import EquationsOfMotion
 from .errors import ModelError
-from .linalg import add, cross, dot, matmul
+from .engine import vector
+from .linalg import ZERO, add, apply, cross, dot, matmul
 from .methods import derive
 from .methods.applied import armature
 from .methods.recursive import Recursion, about_origin, moved
@@ -135,7 +136,7 @@ def _derive(eom: EquationsOfMotion) -> tuple:
     motion = rec.motions(kin.u, list(system.ud), system.gravity)
     Y, T, U, pi, names = [], [], [], [], []
     for link, welded in links(system).items():
-        w, al, a = (sub.matrix(x) for x in motion[link])
+        w, al, a = (vector(sub.matrix(x)) for x in motion[link])
         for wrench in _wrenches(w, al, a):
             Y.append(_torques(rec, link, *wrench))
         R = kin.R[link]
@@ -165,27 +166,25 @@ def _derive(eom: EquationsOfMotion) -> tuple:
             Y.append(_at(n, i, column))
             names.append(f"{prefix}_{name}")
         T, U, pi = T + [0] * 3, U + [0] * 3, pi + [0] * 3
-    full = sp.Matrix.hstack(*Y) if Y else sp.zeros(n, 0)
+    columns = [vector(y) for y in Y]
+    full = sp.Matrix(n, len(Y), [column[i] for i in range(n) for column in columns])
     return full, sp.Matrix(pi), tuple(names), sp.Matrix([T]), sp.Matrix([U]), tuple(range(len(pi)))
 
 
-def _wrenches(w: sp.Matrix, al: sp.Matrix, a: sp.Matrix) -> list[tuple[sp.Matrix, sp.Matrix]]:
+def _wrenches(w: tuple, al: tuple, a: tuple) -> list[tuple[tuple, tuple]]:
     """(f, n) per unit parameter of [m, h_x, h_y, h_z, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz] (module
     formulas)."""
-    zero = sp.zeros(3, 1)
-    out = [(a, zero)]
+    out = [(a, ZERO)]
     for k in range(3):
-        e = sp.zeros(3, 1)
-        e[k] = 1
-        out.append((cross(al, e) + cross(w, cross(w, e)), cross(e, a)))
+        e = tuple(int(i == k) for i in range(3))
+        out.append((add(cross(al, e), cross(w, cross(w, e))), cross(e, a)))
     for j, k in UNIT:
-        E = sp.zeros(3, 3)
-        E[j, k] = E[k, j] = 1
-        out.append((zero, matmul(E, al) + cross(w, matmul(E, w))))
+        E = tuple(int((r, c) in ((j, k), (k, j))) for r in range(3) for c in range(3))
+        out.append((ZERO, add(apply(E, al), cross(w, apply(E, w)))))
     return out
 
 
-def _torques(rec: Recursion, link, f: sp.Matrix, n: sp.Matrix) -> sp.Matrix:
+def _torques(rec: Recursion, link, f: tuple, n: tuple) -> sp.Matrix:
     """τ of a wrench (f, n) on `link` (its axes, at its origin): τ_k = v_k · f + ω_k · n on every joint
     from the link to the root, the wrench carried to each parent (`Recursion.up`)."""
     tau, body = [0] * rec.n, link

@@ -65,7 +65,8 @@ class Subexpressions:
         self.definitions: dict[sp.Symbol, sp.Expr] = {}
         self._index: dict[sp.Symbol, int] = {}
         self._named: dict[sp.Expr, sp.Symbol] = {}
-        self._uses: dict[sp.Symbol, tuple] = {}
+        self._uses: dict[sp.Symbol, tuple] = {}  # the intermediates each definition reads
+        self._reads: dict[sp.Symbol, frozenset] = {}  # the other symbols each definition reads
         self._symbols: list[sp.Symbol] = []  # by index
         self._derivatives: dict = {}  # {direction: {index of an intermediate: its derivative}}
         self._needs: dict[sp.Expr, list[int]] = {}  # the indices of `dependencies`, by expression
@@ -125,6 +126,11 @@ class Subexpressions:
     def matrix(self, x, cols: int = 1) -> sp.Matrix:
         """The `sp.Matrix` of `cols` columns with the engine scalars `x` row by row, in sympy."""
         return sp.Matrix(len(x) // cols if cols else 0, cols, [self.engine.to_sympy(e) for e in x])
+
+    def reads(self, symbol: sp.Symbol) -> frozenset:
+        """The symbols other than intermediates that the definition of `symbol` holds (inputs,
+        parameters), known since it was defined."""
+        return self._reads[symbol]
 
     def dependencies(self, exprs: Iterable[sp.Expr]) -> list[sp.Symbol]:
         """The intermediates that `exprs` need, in definition order."""
@@ -194,6 +200,7 @@ class Subexpressions:
         self._symbols.append(symbol)
         symbols = sp.sympify(expr).free_symbols if symbols is None else symbols
         self._uses[symbol] = tuple(s for s in symbols if s in self.definitions)
+        self._reads[symbol] = frozenset(s for s in symbols if s not in self.definitions)
         self.definitions[symbol] = sp.sympify(expr)
         return symbol
 

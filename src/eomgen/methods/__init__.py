@@ -77,8 +77,8 @@ def derive(system: System, method: str | None = None, quantities=None,
         for frame in frames:
             kin.jacobian(frame)  # an unknown name is an error here, before any derivation
         eom = METHODS[method](kin, tuple(k for k in QUANTITIES if k in quantities))
-    for frame in frames:
-        eom.compact[f"J:{frame}"] = kin.jacobian(frame)
-        if not moving:  # J̇ u is the bias of J u, which a prescribed motion's own rate is not part of
-            eom.compact[f"Jdot_u:{frame}"] = kin.jacobian_dot_u(frame)
+        for frame in frames:
+            eom.compact[f"J:{frame}"] = kin.jacobian(frame)
+            if not moving:  # J̇ u is the bias of J u, which a prescribed motion's own rate is not part of
+                eom.compact[f"Jdot_u:{frame}"] = kin.jacobian_dot_u(frame)
     return eom

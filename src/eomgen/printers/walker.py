@@ -22,6 +22,7 @@ from functools import reduce
 
 import sympy as sp
 
+from ..engine import collection_paused
 from ..errors import ModelError
 from ..functions import Catalogue, Function
 from ..subexpressions import Subexpressions
@@ -145,14 +146,25 @@ class FunctionWriter:
         self._q_index = {s: k for k, s in enumerate(inputs.get("q", []))}
         self.trig_indices: list[int] = []  # of the last function: the k with sin(q[k]) or cos(q[k]) used
 
-    def _read(self, e: sp.Basic) -> tuple[frozenset, frozenset]:
-        """(the inputs an expression reads, the sin and cos of inputs in it)."""
-        return frozenset(e.free_symbols & self._inputs), frozenset(e.atoms(sp.sin, sp.cos) & self.trig.keys())
+    def _read(self, e: sp.Basic, symbols: frozenset | None = None) -> tuple[frozenset, frozenset]:
+        """(the inputs an expression reads, the sin and cos of inputs in it); `symbols`: its free symbols
+        where known. Only an expression that reads an input is searched for sin and cos."""
+        used = (e.free_symbols if symbols is None else symbols) & self._inputs
+        if not used:
+            return frozenset(), frozenset()
+        trig, stack = set(), [e]
+        while stack:
+            x = stack.pop()
+            if x in self.trig:
+                trig.add(x)
+            else:
+                stack.extend(x.args)
+        return frozenset(used), frozenset(trig)
 
     def _reads_of(self, s: sp.Symbol) -> tuple[frozenset, frozenset]:
         """`_read` of an intermediate's definition, once."""
         if s not in self._reads:
-            self._reads[s] = self._read(self.sub.definitions[s])
+            self._reads[s] = self._read(self.sub.definitions[s], self.sub.reads(s))
         return self._reads[s]
 
     def _line(self, s: sp.Symbol) -> tuple[str, int]:
@@ -279,8 +291,10 @@ class FunctionWriter:
         return "\n\n".join(parts) + "\n\n" + "\n".join(main) + "\n"
 
     def function(self, name: str, fn: Function) -> tuple[str, tuple, int]:
-        """`source` of a catalogue function."""
-        return self.source(name, fn.expression(), fn.symmetric)
+        """`source` of a catalogue function, its expression built (derivatives, ...) and printed with the
+        cycle collector paused (`collection_paused`: a third of the printing time otherwise)."""
+        with collection_paused():
+            return self.source(name, fn.expression(), fn.symmetric)
 
 
 def writer(catalogue: Catalogue, syntax: Syntax = PYTHON) -> FunctionWriter:
