@@ -197,6 +197,8 @@ def run_write_c(eom, folder, pairs, n_frames: int) -> np.ndarray:
 
 def check_compiled(tree, eom: eg.EquationsOfMotion, folder) -> None:
     system, f, fc = eom.system, eg.codegen(eom), eg.codegen(eom, backend="c")
+    # one extension module for all (the modules built on first use: test_c_backend)
+    fc.generate(["tau", *(f"tau:{load.name}" for load in tree.loads), *(f"J:{n}" for n in frame_names(tree))])
     pairs = states(tree, 4, seed=3)
     qs, us = np.array([q for q, _ in pairs]), np.array([u for _, u in pairs])
     nv = len(system.u)
