@@ -123,6 +123,18 @@ def test_a_name_whose_terms_cancel_in_sympy_keeps_the_symbols_apart():
     assert sub.derivative(a * c, {a: 1}, "a") == c and sub.scalar(a) == A
 
 
+def test_a_definition_reads_the_symbols_of_its_sympy_form():
+    """A node symengine converts itself (Abs) may collect a sum inside, 2 (a/2 + b) − 2 b → a: the
+    symbols a definition reads (which inputs the printers read) are those of its sympy form."""
+    a, b, c = sp.symbols("a b c")
+    sub = Subexpressions(engine="symengine")
+    sub.scalar(sp.sin(a) + b * c)
+    A, B, C = (sub.engine.token(s) for s in (a, b, c))
+    for e in (engine.se.Abs(2 * (A / 2 + B) - 2 * B) * C, engine.se.sin(2 * (A / 2 + B) - 2 * B) * C):
+        name = sub.engine.to_sympy(sub.add(e))
+        assert sub.reads(name) == sub.definitions[name].free_symbols == {a, c}
+
+
 def test_sin_of_a_sum_differentiates_to_one_expression_in_both_engines():
     """Expressions that do not come from the hot core (loads, sympy's own terms) may hold sin and cos of
     sums, which symengine writes otherwise (sin(a − b) as −sin(b − a)): their derivative is the same

@@ -101,12 +101,13 @@ def calls(check, path: Path, message: str) -> int:
         nonlocal count
         count += event in ("call", "c_call")
 
+    before = sys.getprofile()
     sys.setprofile(profile)
     try:
         with pytest.raises(ModelError, match=message):
             check(path)
     finally:
-        sys.setprofile(None)
+        sys.setprofile(before)
     return count
 
 

@@ -191,10 +191,11 @@ class Symengine:
             else:
                 if e.is_Integer:
                     r = sp.Integer(int(e))
-                else:
+                    done = (r, sort_key(r), False)
+                else:  # symengine's conversion, which may collect a sum inside (Abs(2 (a/2 + b) − 2 b))
                     r = e._sympy_()
                     r = r.xreplace({s: self._by_name[s.name] for s in r.free_symbols})
-                done = (r, sort_key(r), False)
+                    done = (r, sort_key(r), len(r.free_symbols) != len(e.free_symbols))
             memo[e] = done
             return done
 
