@@ -66,7 +66,7 @@ def check_pinocchio(tree, eom: eg.EquationsOfMotion) -> None:
             close(f.tau(q, u), sum(forces.values()), 1e-9, f"tau, state {k}")
 
 
-@settings(max_examples=50, **COMMON)  # more: the slow _many variant
+@settings(max_examples=30, **COMMON)  # more: the slow _many variant
 @given(tree=S.trees(), method=st.sampled_from(METHODS))
 def test_equals_pinocchio(tree, method):
     check_pinocchio(tree, equations(tree, method))
@@ -95,7 +95,7 @@ def check_methods_agree(tree) -> None:
                 close(out[key], out0[key], 1e-10, f"{key}: {m} vs {METHODS[0]}, state {k}")
 
 
-@settings(max_examples=12, **COMMON)
+@settings(max_examples=8, **COMMON)
 @given(tree=S.trees(max_bodies=5))
 def test_methods_agree(tree):
     check_methods_agree(tree)
@@ -136,7 +136,7 @@ def check_numpy_and_module(tree, eom: eg.EquationsOfMotion, folder, tag: str) ->
     close(mod.g(qs), np.array([f.g(q) for q in qs]), 1e-12, "module batched g")
 
 
-@settings(max_examples=20, **COMMON)
+@settings(max_examples=12, **COMMON)
 @given(tree=S.trees(), method=st.sampled_from(METHODS))
 def test_numpy_and_written_module_agree(tree, method, tmp_path_factory):
     folder = tmp_path_factory.mktemp("module")
