@@ -28,11 +28,6 @@ def eomgen_cache(tmp_path_factory) -> str:
         yield str(folder)
 
 
-# a young pass every 20,000 new objects, not 700: the derivations make millions, most freed by their
-# reference counts before a pass would walk them
-gc.set_threshold(20_000, 10, 10)
-
-
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_teardown(item, nextitem):
     """After the last test of a module (its fixtures gone): its cyclic garbage collected, then what is
