@@ -38,8 +38,8 @@ def com(kin) -> sp.Matrix:
 
 
 def _com(kin) -> tuple:
-    total = linalg.total(linalg.scale(b.mass, vector(kin.com(b))) for b in moving(kin))
-    return kin.sub.add_matrix(tuple(x / total_mass(kin) for x in total))
+    m, total = total_mass(kin), linalg.total(linalg.scale(b.mass, vector(kin.com(b))) for b in moving(kin))
+    return kin.sub.add_matrix(tuple(x / m for x in total))
 
 
 def com_jacobian(kin) -> sp.Matrix:

@@ -21,7 +21,7 @@ import sympy as sp
 from .eom import EquationsOfMotion
 from .errors import ModelError
 from .engine import vector
-from .linalg import ZERO, add, apply, cross, dot, matmul
+from .linalg import IDENTITY, ZERO, add, apply, cross, dot, matmul
 from .methods import derive
 from .methods.applied import armature
 from .methods.recursive import Recursion, about_origin, moved
@@ -176,7 +176,7 @@ def _wrenches(w: tuple, al: tuple, a: tuple) -> list[tuple[tuple, tuple]]:
     formulas)."""
     out = [(a, ZERO)]
     for k in range(3):
-        e = tuple(int(i == k) for i in range(3))
+        e = IDENTITY[3 * k:3 * k + 3]
         out.append((add(cross(al, e), cross(w, cross(w, e))), cross(e, a)))
     for j, k in UNIT:
         E = tuple(int((r, c) in ((j, k), (k, j))) for r in range(3) for c in range(3))
