@@ -182,18 +182,18 @@ def test_children_sit_on_the_bent_twisted_tip(arm):
 
 
 def test_free_vibration_of_the_3d_arm_conserves_energy(arm):
-    """Released bent and twisted under gravity, no damping: T + U stays constant to the integrator's
-    tolerance while every field moves."""
+    """Released bent and twisted under gravity, no damping: T + U stays constant to 1e-9 of itself (the
+    integrator's tolerance 1e-10; measured 1e-10) while every field moves."""
     arm, f = arm
     n = arm.nv
     q0 = np.zeros(n)
     q0[1:11] = 0.02  # the first link's deflections, slopes and twists
     sol = solve_ivp(lambda _, x: np.r_[x[n:], f.forward_dynamics(x[:n], x[n:])], (0, 0.1),
-                    np.r_[q0, np.zeros(n)], method="DOP853", rtol=1e-11, atol=1e-12,
+                    np.r_[q0, np.zeros(n)], method="DOP853", rtol=1e-10, atol=1e-11,
                     t_eval=np.linspace(0, 0.1, 21))
     assert sol.success and np.ptp(sol.y[:n], axis=1).min() > 1e-4  # every coordinate moves
     energy = np.array([f.T(x[:n], x[n:]) + f.U(x[:n]) for x in sol.y.T])
-    assert np.ptp(energy) < 1e-8 * np.abs(energy).max()
+    assert np.ptp(energy) < 1e-9 * np.abs(energy).max()
 
 
 def test_modes_of_a_3d_link_keep_each_fields_first_frequencies():

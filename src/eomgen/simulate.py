@@ -17,7 +17,6 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import DOP853, RK23, RK45, solve_ivp
 
 from .arguments import finite_array
 from .numeric import NumericEoM, NumericKane, codegen, project
@@ -30,7 +29,7 @@ from .model import System
 
 STABILIZATIONS = ("projection", "baumgarte", None)
 METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")  # solve_ivp's
-PROJECTING = {"RK23": RK23, "RK45": RK45, "DOP853": DOP853}  # explicit: (t, x, ẋ) is their whole state
+PROJECTING = ("RK23", "RK45", "DOP853")  # explicit: (t, x, ẋ) is their whole state
 
 
 @dataclass
@@ -117,12 +116,15 @@ def simulate(system_or_functions, x0, t_span, controller=None, tau=None, params=
         tau_a = _efforts(source, t, x[:f.nq], x[f.nq:f.nq + f.nv], n_efforts)
         return np.append(f.rhs(t, x, tau_a, params, **gains), f.power(t, x, tau_a, params))
 
+    import scipy.integrate  # here: SciPy's import is a third of eomgen's
+
     y0 = np.append(_initial(f, x0), 0.0)
     with _once():
         if projecting:
-            t, y = _projected(f, rates, y0, t_span, PROJECTING[method], t_eval, params, options, tol)
+            stepper = getattr(scipy.integrate, method)
+            t, y = _projected(f, rates, y0, t_span, stepper, t_eval, params, options, tol)
         else:
-            sol = solve_ivp(rates, t_span, y0, method=method, t_eval=t_eval, **options)
+            sol = scipy.integrate.solve_ivp(rates, t_span, y0, method=method, t_eval=t_eval, **options)
             if sol.status < 0:
                 raise ModelError(f"simulate: the integrator failed at t = {sol.t[-1]}: {sol.message}")
             t, y = sol.t, sol.y.T

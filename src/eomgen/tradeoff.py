@@ -18,7 +18,6 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg as sla
 import sympy as sp
 
 from .numeric import codegen
@@ -229,10 +228,12 @@ def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, level
 def _modal_map(reduced: System) -> tuple[np.ndarray, np.ndarray]:
     """(T_q, T_v): q = T_q q_k, u = T_v u_k from a system's modal flexible links to the same links' nodes
     (per joint: the identity, or diag(1, Φ) for a link's angle and amplitudes)."""
+    from scipy.linalg import block_diag  # here: SciPy's import is a third of eomgen's
+
     blocks = [(np.eye(len(j.coordinates)), np.eye(j.dof)) if not isinstance(j, FlexibleLink) else
-              2 * (sla.block_diag(np.eye(len(j.coordinates) - len(j.nodal)), j.shapes),)
+              2 * (block_diag(np.eye(len(j.coordinates) - len(j.nodal)), j.shapes),)
               for j in reduced.joints]
-    return sla.block_diag(*[q for q, _ in blocks]), sla.block_diag(*[v for _, v in blocks])
+    return block_diag(*[q for q, _ in blocks]), block_diag(*[v for _, v in blocks])
 
 
 def pareto_front(points) -> list[int]:

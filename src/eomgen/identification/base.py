@@ -23,7 +23,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.linalg
 
 from ..errors import ModelError
 from .data import stack
@@ -121,6 +120,8 @@ def _base(W: np.ndarray, names: tuple[str, ...], tolerance: float | None) -> Bas
         raise ModelError("base_parameters: the regressor is zero at every state given")
     zero = scale <= tol * scale.max()  # a parameter that never acts (its column rounding errors at most)
     W, scale[zero] = np.where(zero, 0.0, W), 1.0
+    import scipy.linalg  # here: SciPy's import is a third of eomgen's
+
     _, R, pivots = scipy.linalg.qr(W / scale, mode="economic", pivoting=True)
     diagonal = np.abs(np.diag(R)) / abs(R[0, 0])
     b = int(np.sum(diagonal > tol))

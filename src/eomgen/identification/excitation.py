@@ -13,7 +13,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.optimize
 
 from ..errors import ModelError
 from .base import BaseParameters, base_parameters
@@ -83,6 +82,8 @@ def excite(regressor, lower, upper, velocity, *, names: Sequence[str] | None = N
         if value < best["log"] and np.all(G @ x + h >= -1e-9):
             best.update(x=x.copy(), log=value)
         return value
+
+    import scipy.optimize  # here: SciPy's import is a third of eomgen's
 
     deadline, starts = time.monotonic() + time_limit, []
     for _ in range(restarts):

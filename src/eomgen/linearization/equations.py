@@ -12,7 +12,6 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
-from scipy.linalg import qr
 
 from ..functions import forward_dynamics
 from ..numeric import codegen
@@ -94,7 +93,9 @@ class EquationsCase:
         if k == len(candidates) or not k:
             return candidates[:k]
         F = self.pieces.evaluate("closure", "q", point)[self.closures]
-        _, R, pivots = qr(F[:, candidates], pivoting=True)
+        import scipy.linalg  # here: SciPy's import is a third of eomgen's
+
+        _, R, pivots = scipy.linalg.qr(F[:, candidates], pivoting=True)
         if k and abs(R[k - 1, k - 1]) <= 1e-10 * max(1.0, abs(R[0, 0])):
             raise ModelError(
                 "linearize: the closures do not determine the dependent coordinates at this "

@@ -4,7 +4,6 @@ bending in two planes and twisting (3D)."""
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg as sla
 import sympy as sp
 
 from ..errors import ModelError
@@ -126,8 +125,11 @@ class FlexibleLink(Joint):
         # per field: its inertia, the sections' rotary inertia about the bending axis (at rest: M_nn)
         inertia = {"y": (self.mass_per_length, section[2]), "z": (self.mass_per_length, section[1]),
                    "x": (section[0], 0)}
-        return sla.block_diag(*[clamped_modes(self.length, inertia[f][0], self.stiffness[f], self.elements, k,
-                                              DOFS[f], inertia[f][1])[0] for f in self.fields])
+        import scipy.linalg  # here: SciPy's import is a third of eomgen's
+
+        return scipy.linalg.block_diag(*[clamped_modes(self.length, inertia[f][0], self.stiffness[f],
+                                                       self.elements, k, DOFS[f], inertia[f][1])[0]
+                                         for f in self.fields])
 
     @property
     def most_modes(self) -> int:
