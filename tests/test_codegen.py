@@ -30,6 +30,16 @@ def test_deterministic_source():
     assert a.sources == b.sources
 
 
+def test_the_same_source_is_compiled_once_into_new_functions():
+    """Python compiles a text once per process; each function made from it has its own globals."""
+    from eomgen.printers.python import compile_function
+
+    source = "def f(x):\n    global calls\n    calls = globals().get('calls', 0) + 1\n    return x + calls\n"
+    f, g = compile_function(source, "counter"), compile_function(source, "counter")
+    assert f is not g and f.__code__ is g.__code__
+    assert (f(1), f(1), g(1)) == (2, 3, 2)
+
+
 def test_names_never_reach_the_source():
     evil = "q'); import os; os.system('echo pwned') #\n"
     system = eg.System(gravity=(0, -9.81, 0))

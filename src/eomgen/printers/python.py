@@ -1,12 +1,22 @@
 """The Python/NumPy target: a generated function's source run as a Python function."""
 from __future__ import annotations
 
+from functools import lru_cache
+
 from ..engine import collection_paused
 
 
 def compile_function(source: str, label: str, name: str = "f"):
-    """The function `name` defined by `source` (our own generated arithmetic, nothing else)."""
+    """The function `name` defined by `source` (our own generated arithmetic, nothing else): a new
+    function object each time, from the code object compiled once per process (`_code`)."""
     namespace: dict = {}
-    with collection_paused():  # the compiler's syntax tree: many objects, none of them cyclic garbage
-        exec(compile(source, f"<eomgen {ascii(label)}>", "exec"), namespace)
+    exec(_code(source, label), namespace)
     return namespace[name]
+
+
+@lru_cache(maxsize=64)
+def _code(source: str, label: str):
+    """Python's code object of `source` (immutable; the same text is compiled again where the same
+    equations are generated again, e.g. one robot in several places of a program)."""
+    with collection_paused():  # the compiler's syntax tree: many objects, none of them cyclic garbage
+        return compile(source, f"<eomgen {ascii(label)}>", "exec")
