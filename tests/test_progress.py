@@ -93,18 +93,17 @@ def dominated(p, q) -> bool:
 
 
 def test_pareto_plot_front_and_labels(tmp_path):
-    """A real run (the double pendulum, C timed too): each front is the step line through exactly the
-    non-dominated points; one label per variant, inside the axes, no two label boxes meet, none covers a
-    marker."""
+    """A real run (ur5, C timed too): each front is the step line through exactly the non-dominated
+    points; one label per variant, inside the axes, no two label boxes meet, none covers a marker."""
     from eomgen.tradeoff import pareto_plot
 
     with eg.quiet():
-        variants = eg.tradeoff(eg.robots.load("double_pendulum"), states=20, levels=("cse",), c=True)
+        variants = eg.tradeoff(eg.robots.load("ur5"), states=20, levels=("cse",), c=True)
     png = tmp_path / "pareto.png"
-    fig = pareto_plot(variants, png, "double_pendulum")
+    fig = pareto_plot(variants, png, "ur5")
     assert png.stat().st_size > 20_000
     ax = fig.axes[0]
-    assert "double_pendulum" in ax.get_title() and "u̇" in ax.get_title()
+    assert "ur5" in ax.get_title() and "u̇" in ax.get_title()
     assert "µs" in ax.get_xlabel() and "[rad/s²]" in ax.get_ylabel() and "max |u̇" in ax.get_ylabel()
     errors = [max(v.abs_errors["ud"], 1e-300) for v in variants]
     for kind, times in (("NumPy", [v.eval_us_per_state for v in variants]),

@@ -16,7 +16,8 @@ def compile_function(source: str, label: str, name: str = "f"):
 
 @lru_cache(maxsize=64)
 def _code(source: str, label: str):
-    """Python's code object of `source` (immutable; the same text is compiled again where the same
-    equations are generated again, e.g. one robot in several places of a program)."""
+    """Python's code object of `source` (immutable), for where the same equations are generated again,
+    e.g. one robot in several places of a program; the last 64 texts are kept, also after their model is
+    gone (a few MB each for a humanoid's derivatives)."""
     with collection_paused():  # the compiler's syntax tree: many objects, none of them cyclic garbage
         return compile(source, f"<eomgen {ascii(label)}>", "exec")
