@@ -116,7 +116,12 @@ def test_pareto_plot_front_and_labels(tmp_path):
         drawn = list(zip(line.get_xdata(), line.get_ydata()))
         floor = min(y for _, y in drawn)
         assert [(t, max(e, floor)) for t, e in front] == drawn
-    renderer = fig.canvas.get_renderer()
+    labels_apart(fig, variants)
+
+
+def labels_apart(fig, variants) -> None:
+    """One label per variant, inside the axes, no two label boxes meet, none covers a marker."""
+    ax, renderer = fig.axes[0], fig.canvas.get_renderer()
     labels = [t for t in ax.texts if t.get_gid() == "variant label"]
     names = sorted(t.get_text().removesuffix(" (error 0)") for t in labels)
     assert names == sorted(v.name for v in variants)
@@ -129,3 +134,23 @@ def test_pareto_plot_front_and_labels(tmp_path):
     markers = np.concatenate([c.get_offsets() for c in ax.collections])
     for x, y in ax.transData.transform(markers):
         assert not any(box.contains(x, y) for box in boxes)
+
+
+def test_labels_of_points_that_tie_in_accuracy_keep_apart(tmp_path):
+    """Four variants of equal error side by side near the floor of the axes (the double pendulum's
+    variants as one run measured them): the rings around a point are all taken, so a label goes to the
+    nearest free place of the axes, with a leader, not onto another label."""
+    from eomgen.tradeoff import Variant, Variants, pareto_plot
+
+    rows = [("full model (recursive, float64)", 4.55e-13, 7.14, 0.4015),
+            ("closed forms + CSE", 4.55e-13, 6.64, 0.3660),
+            ("projected Newton-Euler code", 5.26e-13, 11.6, 0.4127),
+            ("float32", 1.96e-4, 5.23, None),
+            ("Coriolis and centrifugal neglected", 11.2, 2.76, 0.2569),
+            ("bodies below 0.0166 kg dropped", 4.55e-13, 9.23, 0.4211),
+            ("links as point masses", 238, 7.83, 0.3700),
+            ("small inertias neglected", 4.55e-13, 6.98, 0.4407),
+            ("joints locked: joint2", 61.4, 4.68, 0.4853)]
+    variants = Variants([Variant(name, 0.1, 1, us, abs_errors={"ud": error}, c_us_per_state=c_us)
+                         for name, error, us, c_us in rows], 20, "rad/s²")
+    labels_apart(pareto_plot(variants, tmp_path / "pareto.png", "double_pendulum"), variants)

@@ -318,9 +318,9 @@ def _color(k: int):
 
 def _place_labels(ax, anchors, names, colors, points, segments, legend) -> None:
     """One label per anchor (data coordinates), framed in its colour, at the first offset around it
-    (nearest first) whose box meets no label or leader placed before, no marker, line segment or the
-    legend, and stays inside the axes; a thin leader joins a label set further off to its point,
-    crossing no label."""
+    (nearest first: rings of 12 directions, then a grid over the axes for a crowded point) whose box
+    meets no label or leader placed before, no marker, line segment or the legend, and stays inside the
+    axes; a thin leader joins a label set further off to its point, crossing no label."""
     from matplotlib.transforms import Bbox, offset_copy
 
     fig = ax.figure
@@ -332,6 +332,8 @@ def _place_labels(ax, anchors, names, colors, points, segments, legend) -> None:
     labels, leaders = [], []
     angles = np.deg2rad([0, 180, 90, -90, 30, 150, -30, -150, 60, 120, -60, -120])
     offsets = [(r * np.cos(a), r * np.sin(a)) for r in (6, 12, 20, 30, 45, 65, 90, 120) for a in angles]
+    offsets += sorted(((dx, dy) for dx in range(-480, 481, 24) for dy in range(-320, 321, 16)
+                       if np.hypot(dx, dy) > 120), key=lambda d: np.hypot(*d))
     for (x, y), name, color in zip(anchors, names, colors):
         text = ax.text(x, y, name, fontsize=7, gid="variant label", zorder=4,
                        bbox={"boxstyle": "round,pad=0.25", "fc": "white", "ec": color, "lw": 0.8,
