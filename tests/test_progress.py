@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
 
 import eomgen as eg
 from eomgen import progress as bars
@@ -154,3 +155,21 @@ def test_labels_of_points_that_tie_in_accuracy_keep_apart(tmp_path):
     variants = Variants([Variant(name, 0.1, 1, us, abs_errors={"ud": error}, c_us_per_state=c_us)
                          for name, error, us, c_us in rows], 20, "rad/s²")
     labels_apart(pareto_plot(variants, tmp_path / "pareto.png", "double_pendulum"), variants)
+
+
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(n=st.integers(9, 20),
+       errors=st.lists(st.sampled_from([0.0, 4.55e-13, 5.3e-13, 2e-4, 11.2, 61.4, 238.0]),
+                       min_size=20, max_size=20),
+       times=st.lists(st.floats(0.5, 80.0), min_size=20, max_size=20), compiled=st.booleans(),
+       crowded=st.booleans())
+def test_random_variants_get_labels_apart(tmp_path_factory, n, errors, times, compiled, crowded):
+    """Random variants, many tied in accuracy, some at one time (crowded): every label finds a place."""
+    from eomgen.tradeoff import Variant, Variants, pareto_plot
+
+    variants = Variants([Variant(f"variant {k}" + " with a longer name" * (k % 3), 0.1, 1,
+                                 6.0 if crowded and k % 2 else times[k], abs_errors={"ud": errors[k]},
+                                 c_us_per_state=times[k] / 20 if compiled else None)
+                         for k in range(n)], 20, "rad/s²")
+    path = tmp_path_factory.mktemp("pareto") / "pareto.png"
+    labels_apart(pareto_plot(variants, path, "random"), variants)

@@ -317,42 +317,49 @@ def _color(k: int):
 
 
 def _place_labels(ax, anchors, names, colors, points, segments, legend) -> None:
-    """One label per anchor (data coordinates), framed in its colour, at the first offset around it
-    (nearest first: rings of 12 directions, then a grid over the axes for a crowded point) whose box
-    meets no label or leader placed before, no marker, line segment or the legend, and stays inside the
-    axes; a thin leader joins a label set further off to its point, crossing no label."""
+    """One label per anchor (data coordinates), framed in its colour, at the first offset (nearest first:
+    rings of 12 directions up to 120 pt around its point, then a grid over the whole axes) where nothing
+    clashes: the label inside the axes, its box on no label, marker, line segment, leader or the legend,
+    and its leader (a thin line to a label set further off) across no label. Where every offset clashes,
+    the least bad (`_clashes`)."""
     from matplotlib.transforms import Bbox, offset_copy
 
     fig = ax.figure
     renderer = fig.canvas.get_renderer()
     frame = ax.get_window_extent(renderer)
-    to_display = ax.transData.transform
-    taken = [Bbox.from_bounds(*(to_display(p) - 5), 10, 10) for p in points]
-    taken += [Bbox(to_display([a, b])).padded(1) for a, b in segments] + [legend.get_window_extent(renderer)]
+    to_display, pixels = ax.transData.transform, fig.dpi / 72  # pixels per point
+    markers = [Bbox.from_bounds(*(to_display(p) - 5), 10, 10) for p in points]
+    lines = [Bbox(to_display([a, b])).padded(1) for a, b in segments] + [legend.get_window_extent(renderer)]
     labels, leaders = [], []
     angles = np.deg2rad([0, 180, 90, -90, 30, 150, -30, -150, 60, 120, -60, -120])
-    offsets = [(r * np.cos(a), r * np.sin(a)) for r in (6, 12, 20, 30, 45, 65, 90, 120) for a in angles]
-    offsets += sorted(((dx, dy) for dx in range(-480, 481, 24) for dy in range(-320, 321, 16)
-                       if np.hypot(dx, dy) > 120), key=lambda d: np.hypot(*d))
+    rings = [(r * np.cos(a), r * np.sin(a)) for r in (6, 12, 20, 30, 45, 65, 90, 120) for a in angles]
+    step_x, step_y = 24 * pixels, 16 * pixels
+    grid = [(x, y) for x in np.arange(frame.x0, frame.x1, step_x)
+            for y in np.arange(frame.y0, frame.y1, step_y)]
     for (x, y), name, color in zip(anchors, names, colors):
         text = ax.text(x, y, name, fontsize=7, gid="variant label", zorder=4,
                        bbox={"boxstyle": "round,pad=0.25", "fc": "white", "ec": color, "lw": 0.8,
                              "alpha": 0.9})
         here, best = to_display((x, y)), None
-        for dx, dy in offsets:
-            text.set_transform(offset_copy(ax.transData, fig=fig, x=dx, y=dy, units="points"))
-            text.set_ha("left" if dx > 1 else "right" if dx < -1 else "center")
-            text.set_va("bottom" if dy > 1 else "top" if dy < -1 else "center")
-            box = text.get_window_extent(renderer).padded(5)
-            leader = (here, here + np.array([dx, dy]) * fig.dpi / 72) if np.hypot(dx, dy) > 10 else None
-            outside = not (frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1))
-            clashes = (sum(box.overlaps(b) for b in taken + labels) + sum(_crosses(s, box) for s in leaders)
-                       + sum(_crosses(leader, b) for b in labels if leader is not None) + 100 * outside)
+        far = sorted((((gx - here[0]) / pixels, (gy - here[1]) / pixels) for gx, gy in grid),
+                     key=lambda d: np.hypot(*d))
+        boxes = {}  # the label's box at its point by alignment: an offset moves it rigidly
+        for dx, dy in rings + [d for d in far if np.hypot(*d) > 120]:
+            align = ("left" if dx > 1 else "right" if dx < -1 else "center",
+                     "bottom" if dy > 1 else "top" if dy < -1 else "center")
+            if align not in boxes:
+                text.set_ha(align[0])
+                text.set_va(align[1])
+                boxes[align] = text.get_window_extent(renderer).padded(5)
+            box = boxes[align].translated(dx * pixels, dy * pixels)
+            leader = (here, here + np.array([dx, dy]) * pixels) if np.hypot(dx, dy) > 10 else None
+            clashes = _clashes(box, leader, frame, markers + labels, lines, leaders, labels,
+                               np.inf if best is None else best[0])
             if best is None or clashes < best[0]:
-                best = (clashes, dx, dy, text.get_ha(), text.get_va(), box, leader)
+                best = (clashes, dx, dy, align, box, leader)
             if clashes == 0:
                 break
-        _, dx, dy, ha, va, box, leader = best
+        _, dx, dy, (ha, va), box, leader = best
         text.set_transform(offset_copy(ax.transData, fig=fig, x=dx, y=dy, units="points"))
         text.set_ha(ha)
         text.set_va(va)
@@ -362,6 +369,21 @@ def _place_labels(ax, anchors, names, colors, points, segments, legend) -> None:
             ax.annotate("", (x, y), xytext=(dx, dy), textcoords="offset points", zorder=1,
                         arrowprops={"arrowstyle": "-", "color": "0.4", "lw": 0.6, "shrinkA": 0,
                                     "shrinkB": 4})
+
+
+def _clashes(box, leader, frame, solid, lines, leaders, labels, enough: float) -> float:
+    """How badly a label's box and leader would clash, counted until the sum reaches `enough`: outside the
+    axes 1000; each label or marker under the box 10; each line segment or the legend under it, leader
+    through it, or label its leader crosses 1."""
+    total = 0.0 if frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1) else 1000.0
+    for weight, hits in ((10, (box.overlaps(b) for b in solid)), (1, (box.overlaps(b) for b in lines)),
+                         (1, (_crosses(s, box) for s in leaders)),
+                         (1, (leader is not None and _crosses(leader, b) for b in labels))):
+        for hit in hits:
+            total += weight * hit
+            if total >= enough:
+                return total
+    return total
 
 
 def _crosses(segment, box) -> bool:
