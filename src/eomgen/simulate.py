@@ -116,7 +116,7 @@ def simulate(system_or_functions, x0, t_span, controller=None, tau=None, params=
         tau_a = _efforts(source, t, x[:f.nq], x[f.nq:f.nq + f.nv], n_efforts)
         return np.append(f.rhs(t, x, tau_a, params, **gains), f.power(t, x, tau_a, params))
 
-    import scipy.integrate  # here: SciPy's import is a third of eomgen's
+    import scipy.integrate
 
     y0 = np.append(_initial(f, x0), 0.0)
     with _once():

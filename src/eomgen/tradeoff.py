@@ -14,6 +14,7 @@ subspace, q = T q_k, u = T u_k with T = diag(1, Φ), the reduced u̇ as T u̇_k,
 Tᵀ g of the full model)."""
 from __future__ import annotations
 
+import itertools
 import time
 from dataclasses import dataclass, field
 
@@ -228,7 +229,7 @@ def _variants(system, states, seed, mass_fraction, inertia_fraction, lock, level
 def _modal_map(reduced: System) -> tuple[np.ndarray, np.ndarray]:
     """(T_q, T_v): q = T_q q_k, u = T_v u_k from a system's modal flexible links to the same links' nodes
     (per joint: the identity, or diag(1, Φ) for a link's angle and amplitudes)."""
-    from scipy.linalg import block_diag  # here: SciPy's import is a third of eomgen's
+    from scipy.linalg import block_diag
 
     blocks = [(np.eye(len(j.coordinates)), np.eye(j.dof)) if not isinstance(j, FlexibleLink) else
               2 * (block_diag(np.eye(len(j.coordinates) - len(j.nodal)), j.shapes),)
@@ -341,10 +342,10 @@ def _place_labels(ax, anchors, names, colors, points, segments, legend) -> None:
                        bbox={"boxstyle": "round,pad=0.25", "fc": "white", "ec": color, "lw": 0.8,
                              "alpha": 0.9})
         here, best = to_display((x, y)), None
-        far = sorted((((gx - here[0]) / pixels, (gy - here[1]) / pixels) for gx, gy in grid),
-                     key=lambda d: np.hypot(*d))
+        far = [((gx - here[0]) / pixels, (gy - here[1]) / pixels) for gx, gy in grid]
+        far = sorted((d for d in far if np.hypot(*d) > 120), key=lambda d: np.hypot(*d))
         boxes = {}  # the label's box at its point by alignment: an offset moves it rigidly
-        for dx, dy in rings + [d for d in far if np.hypot(*d) > 120]:
+        for dx, dy in rings + far:
             align = ("left" if dx > 1 else "right" if dx < -1 else "center",
                      "bottom" if dy > 1 else "top" if dy < -1 else "center")
             if align not in boxes:
@@ -353,7 +354,7 @@ def _place_labels(ax, anchors, names, colors, points, segments, legend) -> None:
                 boxes[align] = text.get_window_extent(renderer).padded(5)
             box = boxes[align].translated(dx * pixels, dy * pixels)
             leader = (here, here + np.array([dx, dy]) * pixels) if np.hypot(dx, dy) > 10 else None
-            clashes = _clashes(box, leader, frame, markers + labels, lines, leaders, labels,
+            clashes = _clashes(box, leader, frame, markers, labels, lines, leaders,
                                np.inf if best is None else best[0])
             if best is None or clashes < best[0]:
                 best = (clashes, dx, dy, align, box, leader)
@@ -371,12 +372,13 @@ def _place_labels(ax, anchors, names, colors, points, segments, legend) -> None:
                                     "shrinkB": 4})
 
 
-def _clashes(box, leader, frame, solid, lines, leaders, labels, enough: float) -> float:
+def _clashes(box, leader, frame, markers, labels, lines, leaders, enough: float) -> float:
     """How badly a label's box and leader would clash, counted until the sum reaches `enough`: outside the
     axes 1000; each label or marker under the box 10; each line segment or the legend under it, leader
     through it, or label its leader crosses 1."""
     total = 0.0 if frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1) else 1000.0
-    for weight, hits in ((10, (box.overlaps(b) for b in solid)), (1, (box.overlaps(b) for b in lines)),
+    for weight, hits in ((10, (box.overlaps(b) for b in itertools.chain(labels, markers))),
+                         (1, (box.overlaps(b) for b in lines)),
                          (1, (_crosses(s, box) for s in leaders)),
                          (1, (leader is not None and _crosses(leader, b) for b in labels))):
         for hit in hits:

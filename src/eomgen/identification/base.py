@@ -120,7 +120,7 @@ def _base(W: np.ndarray, names: tuple[str, ...], tolerance: float | None) -> Bas
         raise ModelError("base_parameters: the regressor is zero at every state given")
     zero = scale <= tol * scale.max()  # a parameter that never acts (its column rounding errors at most)
     W, scale[zero] = np.where(zero, 0.0, W), 1.0
-    import scipy.linalg  # here: SciPy's import is a third of eomgen's
+    import scipy.linalg
 
     _, R, pivots = scipy.linalg.qr(W / scale, mode="economic", pivoting=True)
     diagonal = np.abs(np.diag(R)) / abs(R[0, 0])

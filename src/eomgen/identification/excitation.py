@@ -83,7 +83,7 @@ def excite(regressor, lower, upper, velocity, *, names: Sequence[str] | None = N
             best.update(x=x.copy(), log=value)
         return value
 
-    import scipy.optimize  # here: SciPy's import is a third of eomgen's
+    import scipy.optimize
 
     deadline, starts = time.monotonic() + time_limit, []
     for _ in range(restarts):

@@ -93,7 +93,7 @@ class EquationsCase:
         if k == len(candidates) or not k:
             return candidates[:k]
         F = self.pieces.evaluate("closure", "q", point)[self.closures]
-        import scipy.linalg  # here: SciPy's import is a third of eomgen's
+        import scipy.linalg
 
         _, R, pivots = scipy.linalg.qr(F[:, candidates], pivoting=True)
         if k and abs(R[k - 1, k - 1]) <= 1e-10 * max(1.0, abs(R[0, 0])):

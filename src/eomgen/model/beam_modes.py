@@ -36,7 +36,7 @@ def clamped_modes(length, inertia, stiffness, elements: int, k: int, dofs: int =
                   rotary=0.0) -> tuple[np.ndarray, np.ndarray]:
     """(Φ, ω): the first k mass-normalised modes as the columns of Φ (dofs · n × k), and their frequencies."""
     M, K = nodal_matrices(length, inertia, stiffness, elements, dofs, rotary)
-    import scipy.linalg  # here: SciPy's import is a third of eomgen's
+    import scipy.linalg
 
     omega2, Phi = scipy.linalg.eigh(K, M, subset_by_index=(0, k - 1))
     return Phi * np.where(Phi[-dofs] < 0, -1.0, 1.0), np.sqrt(omega2)

@@ -125,7 +125,7 @@ class FlexibleLink(Joint):
         # per field: its inertia, the sections' rotary inertia about the bending axis (at rest: M_nn)
         inertia = {"y": (self.mass_per_length, section[2]), "z": (self.mass_per_length, section[1]),
                    "x": (section[0], 0)}
-        import scipy.linalg  # here: SciPy's import is a third of eomgen's
+        import scipy.linalg
 
         return scipy.linalg.block_diag(*[clamped_modes(self.length, inertia[f][0], self.stiffness[f],
                                                        self.elements, k, DOFS[f], inertia[f][1])[0]

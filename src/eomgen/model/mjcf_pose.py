@@ -40,7 +40,7 @@ def pose(attribute: Callable[[str], str | None], compiler: dict[str, str], where
          ) -> tuple[np.ndarray, np.ndarray]:
     """(R, p) in its body's frame of an element with these attributes (`attribute(name)`: its text or
     None)."""
-    from scipy.spatial.transform import Rotation  # here: SciPy's import is a third of eomgen's
+    from scipy.spatial.transform import Rotation
 
     if attribute("fromto") is not None:
         raise ModelError(f"{where}: fromto on a site welded to the world is not read (give pos and an "
