@@ -85,6 +85,31 @@ def test_sums_and_products_come_back_in_sympys_order():
         assert back == expr and hash(back) == hash(expr) and back.args == expr.args
 
 
+NUMBERS = [sp.Integer(2), sp.Integer(-1), sp.Integer(-2), sp.Rational(1, 2), sp.Rational(-2, 7),
+           sp.Float(0.5), sp.Float(-1.25)]
+a_, b_, c_ = sp.symbols("a b c", real=True)
+FACTORS = [a_, b_, c_, sp.sin(a_), sp.cos(b_), a_ ** 2, 1 / c_, sp.sqrt(2),
+           sp.Integer(2) ** sp.Rational(1, 3)]
+
+
+@settings(max_examples=400, deadline=None, derandomize=True, database=None)
+@given(c=st.sampled_from(NUMBERS), terms=st.lists(st.tuples(st.sampled_from(NUMBERS + [sp.Integer(1)]),
+                                                              st.lists(st.sampled_from(FACTORS), max_size=3)),
+                                                    min_size=2, max_size=5),
+       rest=st.sampled_from([None, a_, -2 * a_ * b_, sp.sin(a_) / 2]))
+def test_a_number_times_a_sum_comes_back_as_sympy_forms_it(c, terms, rest):
+    """symengine keeps c (t_1 + ... + t_n) as a product, sympy distributes a rational c (and keeps a float
+    one outside): the conversion gives the very object sympy builds from the same operations, also inside a
+    sum, where the distributed terms may cancel others."""
+    eng = engine.make_engine("symengine")
+    total = sp.Add(*[k * sp.Mul(*f) for k, f in terms])
+    expr, made = c * total, eng.scalar(c) * eng.scalar(total)
+    if rest is not None:
+        expr, made = expr + rest, made + eng.scalar(rest)
+    back = eng.to_sympy(made)
+    assert back == expr and back.args == expr.args and hash(back) == hash(expr), (back, expr)
+
+
 def plain_expressions():
     """Sums, products, integer powers and square roots of the leaves and of their sin and cos (what the
     engines' `diff` takes: the hot core's sin and cos are of coordinates; symengine writes sin(x − 2/7) as

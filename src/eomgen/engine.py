@@ -16,6 +16,7 @@ from functools import cache, cmp_to_key
 from operator import itemgetter
 
 import sympy as sp
+from sympy.core.mul import _keep_coeff
 
 from .errors import ModelError
 
@@ -103,7 +104,7 @@ class Symengine:
     def __init__(self) -> None:
         self._token: dict[sp.Symbol, se.Symbol] = {}
         self._symbol: dict[se.Symbol, sp.Symbol] = {}
-        self._placeholder: dict[sp.Symbol, sp.Symbol] = {}  # sympy symbols named as the tokens
+        self._placeholder: dict[sp.Symbol, sp.Symbol] = {}  # sympy symbols named as their tokens (`scalar`)
         self._by_name: dict[str, sp.Symbol] = {}
         self._in: dict[sp.Basic, se.Basic] = {}
         self._out: dict[se.Basic, tuple] = {}  # `definition`
@@ -117,7 +118,6 @@ class Symengine:
             name = f"_ε{len(self._token)}"
             self._token[s] = token = se.Symbol(name)
             self._symbol[token], self._by_name[name] = s, s
-            self._placeholder[s] = sp.Symbol(name)
         return self._token[s]
 
     def scalar(self, x):
@@ -130,8 +130,8 @@ class Symengine:
                 self._in[x] = self.token(x)
             else:
                 for s in sp.preorder_traversal(x):  # tokens numbered in the order met, not hash order
-                    if s.is_Symbol:
-                        self.token(s)
+                    if s.is_Symbol and s not in self._placeholder:
+                        self._placeholder[s] = sp.Symbol(self.token(s).name)
                 self._in[x] = se.sympify(x.xreplace(self._placeholder))
         return self._in[x]
 
@@ -157,50 +157,78 @@ class Symengine:
 
     def definition(self, x) -> tuple[sp.Expr, list[sp.Symbol] | None]:
         """(the sympy expression of an engine scalar, its symbols): symbols from the table, powers, sin and
-        cos rebuilt here, sums and products in sympy's order without collecting them again (`_ordered`) but
-        where symengine keeps a number times a sum, which sympy distributes and then collects (its terms may
-        cancel: the symbols are None then, not symengine's), anything else through symengine's own
-        conversion, the tokens renamed. Each engine node is converted once per engine (`_out`: its sympy
-        form, its `sort_key`, whether a sum was collected in it)."""
-        symbol, memo = self._symbol, self._out
+        cos rebuilt here, sums and products in sympy's order without collecting them again (`_ordered`),
+        a rational times a sum distributed as sympy distributes it (`_distributed`), a sum that holds a
+        distributed one collected by sympy (its terms may cancel: the symbols are None then, not
+        symengine's), anything else through symengine's own conversion, the tokens renamed. Each engine
+        node is converted once per engine (`_out`: its sympy form, its `sort_key`, whether a sum was
+        collected in it)."""
+        expr, _, collected = _convert(x, self._out, self)
+        return expr, None if collected else list(map(self._symbol.__getitem__, x.free_symbols))
 
-        def convert(e) -> tuple:
-            if e in memo:
-                return memo[e]
-            kind = type(e)
-            if kind is se.Symbol:
-                r = symbol[e]
-                memo[e] = done = (r, sort_key(r), False)
-                return done
-            if kind is se.Add or kind is se.Mul:
-                args = list(map(convert, e.args))
-                collected = any(a[2] for a in args)
-                if kind is se.Mul and len(args) == 2 and any(a[0].is_Number for a in args) \
-                        and any(a[0].is_Add for a in args):
-                    r = sp.Mul(*(a[0] for a in args))  # 2 (a + b) → 2 a + 2 b
+
+def _convert(e, memo: dict, engine: Symengine) -> tuple:
+    """(sympy form, `sort_key`, collected) of an engine node (`Symengine.definition`), memoized."""
+    kind = type(e)
+    if kind is se.Add or kind is se.Mul:
+        args = [memo.get(a) or _convert(a, memo, engine) for a in e.args]
+        collected = False
+        for a in args:
+            if a[2]:
+                collected = True
+                break
+        if kind is se.Mul:
+            if len(args) == 2 and (args[0][0].is_Number or args[1][0].is_Number) \
+                    and (args[0][0].is_Add or args[1][0].is_Add):  # 2 (a + b) → 2 a + 2 b
+                done = None if collected or not args[1][0].is_Add else _distributed(*args)
+                if done is None:
+                    r = sp.Mul(args[0][0], args[1][0])
                     done = (r, sort_key(r), collected)
-                elif kind is se.Add and any(a[0].is_Add for a in args):
-                    r = sp.Add(*(a[0] for a in args))
-                    done = (r, sort_key(r), True)
-                else:
-                    done = (*_ordered(sp.Add if kind is se.Add else sp.Mul, args), collected)
-            elif kind in _BUILD:
-                args = list(map(convert, e.args))
-                r = _BUILD[kind](*(a[0] for a in args))
-                done = (r, (_class_key(type(r)), len(args), *(a[1] for a in args)), any(a[2] for a in args))
             else:
-                if e.is_Integer:
-                    r = sp.Integer(int(e))
-                    done = (r, sort_key(r), False)
-                else:  # symengine's conversion, which may collect a sum inside (Abs(2 (a/2 + b) − 2 b))
-                    r = e._sympy_()
-                    r = r.xreplace({s: self._by_name[s.name] for s in r.free_symbols})
-                    done = (r, sort_key(r), len(r.free_symbols) != len(e.free_symbols))
-            memo[e] = done
-            return done
+                done = (*_ordered(sp.Mul, args), collected)
+        elif any(a[0].is_Add for a in args):
+            r = sp.Add(*(a[0] for a in args))
+            done = (r, sort_key(r), True)
+        else:
+            done = (*_ordered(sp.Add, args), collected)
+    elif kind is se.Symbol:
+        r = engine._symbol[e]
+        done = (r, sort_key(r), False)
+    elif kind in _BUILD:
+        args = [memo.get(a) or _convert(a, memo, engine) for a in e.args]
+        r = _BUILD[kind](*(a[0] for a in args))
+        done = (r, (_class_key(type(r)), len(args), *(a[1] for a in args)), any(a[2] for a in args))
+    elif e.is_Number:
+        r = sp.Integer(int(e)) if e.is_Integer else e._sympy_()
+        done = (r, sort_key(r), False)
+    else:  # symengine's conversion, which may collect a sum inside (Abs(2 (a/2 + b) − 2 b))
+        r = e._sympy_()
+        r = r.xreplace({s: engine._by_name[s.name] for s in r.free_symbols})
+        done = (r, sort_key(r), len(r.free_symbols) != len(e.free_symbols))
+    memo[e] = done
+    return done
 
-        expr, _, collected = convert(x)
-        return expr, None if collected else [symbol[s] for s in x.free_symbols]
+
+def _distributed(a: tuple, b: tuple) -> tuple | None:
+    """c (t_1 + ... + t_n) of converted arguments (a number c, then a sum, as symengine orders them) as
+    sympy's `Mul` forms it where c is rational: c t_1 + ... + c t_n, each c t_k formed by sympy
+    (`_keep_coeff`), in sympy's order. The t_k are distinct terms, so the sum collects nothing. None for a
+    float c, which sympy distributes otherwise."""
+    c = a[0]
+    if not c.is_Rational:
+        return None
+    scaled = []
+    for t, k in zip(b[0].args, b[1][2:]):
+        r = _keep_coeff(c, t)
+        known = dict(zip(t.args, k[2:])) if t.is_Mul else {t: k}
+        if r in known:
+            scaled.append((r, known[r]))
+        elif r.is_Mul:
+            keys = (known[x] if x in known else sort_key(x) for x in r.args)
+            scaled.append((r, (_MUL, len(r.args), *keys)))
+        else:
+            scaled.append((r, sort_key(r)))
+    return (*_ordered(sp.Add, scaled), False)
 
 
 @cache
@@ -256,6 +284,7 @@ def partial(e, y, mul, sin, cos):
 
 
 _ORDER = cmp_to_key(sp.Basic.compare)
+_MUL = _class_key(sp.Mul)
 
 
 def _ordered(head, args: list[tuple]) -> tuple:
