@@ -319,6 +319,13 @@ class OneAxis(Joint):
     def joint_frame_subspace(self):
         return self.subspace()
 
+    def bias(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """(0, 0): its one column (v, ω) is constant and along or about one axis, so ω × v = 0 and Ṡ = 0."""
+        return zero(), zero()
+
+    def joint_frame_bias(self) -> tuple[sp.Matrix, sp.Matrix]:
+        return self.bias()
+
     def scale(self) -> sp.Expr:
         """The factor of the driver's speed in this joint's motion (1 for an ordinary joint)."""
         return sp.Integer(1) if self.mimic is None else self.mimic.multiplier
