@@ -147,7 +147,7 @@ class Recursion:
                     F, k = self.up(k, *F), k.parent
         for i, inertia in armature(self.kin):
             M[i][i] += sub.scalar(inertia)
-        T = sub.engine.to_sympy(quadratic_form(M, self.sub.vector(self.kin.u)) * sub.scalar(sp.Rational(1, 2)))
+        T = sub.engine.to_sympy(quadratic_form(M, sub.vector(self.kin.u)) * sub.scalar(sp.Rational(1, 2)))
         return sub.matrix([x for row in M for x in row], self.n), T
 
     def _meetings(self) -> dict:
