@@ -97,9 +97,10 @@ def diagonal(s) -> Matrix3:
     return tuple(mul(s, x) for x in IDENTITY)
 
 
-def quadratic_form(A, x: Sequence) -> sp.Expr:
-    """xᵀ A x, as x · (A x), of an `sp.Matrix` or a list of rows."""
-    return dot(x, [dot(row, x) for row in (A.tolist() if isinstance(A, sp.MatrixBase) else A)])
+def quadratic_form(A, x: Sequence, w: Sequence | None = None) -> sp.Expr:
+    """wᵀ A x (w = x: xᵀ A x), as w · (A x), of an `sp.Matrix` or a list of rows."""
+    rows = A.tolist() if isinstance(A, sp.MatrixBase) else A
+    return dot(x if w is None else w, [dot(row, x) for row in rows])
 
 
 def matmul(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:

@@ -147,7 +147,8 @@ class Recursion:
                     F, k = self.up(k, *F), k.parent
         for i, inertia in armature(self.kin):
             M[i][i] += sub.scalar(inertia)
-        T = sub.engine.to_sympy(quadratic_form(M, sub.vector(self.kin.u)) * sub.scalar(sp.Rational(1, 2)))
+        u = sub.vector(self.kin.u)  # T = (½ u)ᵀ M u: sympy's ½ (uᵀ M u), each term's factor ½ in place
+        T = sub.engine.to_sympy(quadratic_form(M, u, scale(sub.scalar(sp.Rational(1, 2)), u)))
         return sub.matrix([x for row in M for x in row], self.n), T
 
     def _meetings(self) -> dict:
