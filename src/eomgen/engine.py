@@ -152,8 +152,10 @@ class Symengine:
         return partial(e, y, product, se.sin, se.cos)
 
     def to_sympy(self, x):
-        """The sympy expression of an engine scalar (`definition`)."""
-        return self.definition(x)[0] if isinstance(x, se.Basic) else sp.sympify(x)
+        """The sympy expression of an engine scalar (`definition`, without its symbols)."""
+        if not isinstance(x, se.Basic):
+            return sp.sympify(x)
+        return (self._out.get(x) or _convert(x, self._out, self))[0]
 
     def definition(self, x) -> tuple[sp.Expr, list[sp.Symbol] | None]:
         """(the sympy expression of an engine scalar, its symbols): symbols from the table, powers, sin and
