@@ -287,24 +287,23 @@ def partial(e, y, mul, sin, cos):
 
 _ORDER = cmp_to_key(sp.Basic.compare)
 _MUL = _class_key(sp.Mul)
+_HEAD = {sp.Add: _class_key(sp.Add), sp.Mul: _MUL}
 
 
 def _ordered(head, args: list[tuple]) -> tuple:
     """(head(*args), its `sort_key`) of converted arguments (sympy form, sort key, ...) that are already
-    collected (symengine's sums and products are): sympy's canonical order (the number first, the rest
-    by `Basic.compare`, as its `flatten` sorts) without collecting them again."""
-    numbers, rest = [a for a in args if a[0].is_Number], [a for a in args if not a[0].is_Number]
+    collected (symengine's sums and products are): sympy's canonical order (by `Basic.compare`, as its
+    `flatten` sorts; the number, whose class comes first, leads) without collecting them again."""
     try:
-        if len(rest) == 2:
-            if rest[0][1] > rest[1][1]:
-                rest.reverse()
+        if len(args) == 2:
+            if args[0][1] > args[1][1]:
+                args.reverse()
         else:
-            rest.sort(key=itemgetter(1))
+            args.sort(key=itemgetter(1))
     except TypeError:  # items that Python cannot order (symbols of one name, told apart by a tag)
-        rest.sort(key=lambda a: _ORDER(a[0]))
-    args = numbers + rest
+        args.sort(key=lambda a: _ORDER(a[0]))
     expr = head._from_args([a[0] for a in args], is_commutative=True)  # the model refuses others (`values`)
-    return expr, (_class_key(head), len(args), *(a[1] for a in args))
+    return expr, (_HEAD[head], len(args), *[a[1] for a in args])
 
 
 _BUILD = {} if se is None else {se.Pow: lambda b, e: sp.Pow(b, e, evaluate=False),
