@@ -27,7 +27,8 @@ import mpmath
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings
+import symengine as se
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 import eomgen as eg
@@ -108,6 +109,53 @@ def test_a_number_times_a_sum_comes_back_as_sympy_forms_it(c, terms, rest):
         expr, made = expr + rest, made + eng.scalar(rest)
     back = eng.to_sympy(made)
     assert back == expr and back.args == expr.args and hash(back) == hash(expr), (back, expr)
+
+
+def engine_products(eng):
+    """Products built in symengine from its own leaves: symbols, sin, numbers, radicals it keeps as they are
+    written (√8, √3 √6, 4^(1/3)), which sympy simplifies where it multiplies them, and a number times a
+    sum, which sympy distributes (2 (b − a/2) + a = 2 b)."""
+    root = se.Integer
+    a, b = eng.scalar(a_), eng.scalar(b_)
+    leaves = [a, b, se.sin(a), se.sqrt(root(2)), se.sqrt(root(3)), se.sqrt(root(6)), se.sqrt(root(8)),
+              root(4) ** se.Rational(1, 3), root(2) ** se.Rational(2, 3), 2 * (b - a / 2)]
+    numbers = st.sampled_from([root(1), root(2), root(-1), se.Rational(1, 2), se.Rational(-2, 3),
+                               se.RealDouble(0.5), se.RealDouble(-1.25)])
+    return st.tuples(numbers, st.lists(st.sampled_from(leaves), max_size=3)).map(
+        lambda kf: kf[0] * sp.prod(kf[1], start=root(1)))
+
+
+SYMENGINE = engine.make_engine("symengine") if engine.se is not None else None
+
+
+def _cancelling() -> list:
+    """Terms whose sum sympy collects (a + 2 (b − a/2) + sin b = 2 b + sin b)."""
+    a, b = SYMENGINE.scalar(a_), SYMENGINE.scalar(b_)
+    return [a, 2 * (b - a / 2), se.sin(b)]
+
+
+@settings(max_examples=400, deadline=None, derandomize=True, database=None)
+@example(c=2, terms=_cancelling(), rest=None)
+@given(c=st.sampled_from([2, -1, -2, sp.Rational(1, 2), sp.Rational(-2, 7), 0.5, -1.25]),
+       terms=st.lists(engine_products(SYMENGINE), min_size=2, max_size=5),
+       rest=st.sampled_from([None, a_, -2 * a_ * b_, sp.sin(a_) / 2]))
+def test_a_number_times_a_sum_built_in_symengine_is_what_sympys_mul_makes_of_it(c, terms, rest):
+    """The same for sums symengine built, where a term may be a radical it keeps (√8) or a product of
+    radicals (√3 √6) that sympy simplifies when it multiplies: c (t_1 + ... + t_n) converted is sympy's
+    `Mul` of c and the converted sum (whose terms may then collect: 2 (√8 + √2) = 6 √2), and a definition's
+    symbols are those of its sympy form (or None where terms collected)."""
+    eng = SYMENGINE
+    total = terms[0]
+    for term in terms[1:]:
+        total = total + term
+    assume(type(total) is se.Add)  # terms that collected into one are no sum
+    made = eng.scalar(sp.sympify(c)) * total
+    expr = sp.Mul(eng.to_sympy(eng.scalar(sp.sympify(c))), eng.to_sympy(total))
+    if rest is not None:
+        made, expr = made + eng.scalar(rest), sp.Add(expr, rest)
+    back, symbols = eng.definition(made)
+    assert back == expr and back.args == expr.args and hash(back) == hash(expr), (back, expr)
+    assert symbols is None or set(symbols) == back.free_symbols
 
 
 def plain_expressions():

@@ -214,13 +214,18 @@ def _convert(e, memo: dict, engine: Symengine) -> tuple:
 def _distributed(a: tuple, b: tuple) -> tuple | None:
     """c (t_1 + ... + t_n) of converted arguments (a number c, then a sum, as symengine orders them) as
     sympy's `Mul` forms it where c is rational: c t_1 + ... + c t_n, each c t_k formed by sympy
-    (`_keep_coeff`), in sympy's order. The t_k are distinct terms, so the sum collects nothing. None for a
-    float c, which sympy distributes otherwise."""
+    (`_keep_coeff`), in sympy's order. Each term keeps its factors (only its coefficient changes), so the
+    terms stay distinct and the sum collects nothing. None (sympy's `Mul` then) for a float c, which sympy
+    distributes otherwise, and for a term with one factor that sympy may rewrite when it multiplies it
+    (not `_plain`: 2 √8 = 4 √2, where symengine keeps √8, which may then collect with a term in √2)."""
     c = a[0]
     if not c.is_Rational:
         return None
     scaled = []
     for t, k in zip(b[0].args, b[1][2:]):
+        factors = t.args[t.args[0].is_Number:] if t.is_Mul else () if t.is_Number else (t,)
+        if len(factors) == 1 and not _plain(factors[0]):
+            return None
         r = _keep_coeff(c, t)
         known = dict(zip(t.args, k[2:])) if t.is_Mul else {t: k}
         if r in known:
@@ -231,6 +236,14 @@ def _distributed(a: tuple, b: tuple) -> tuple | None:
         else:
             scaled.append((r, sort_key(r)))
     return (*_ordered(sp.Add, scaled), False)
+
+
+def _plain(factor: sp.Expr) -> bool:
+    """True for a symbol, a function's value and their powers with a number exponent: sympy multiplies them by
+    a number as they stand."""
+    if factor.is_Pow:
+        factor = factor.base if factor.exp.is_Number else None
+    return factor is not None and (factor.is_Symbol or isinstance(factor, sp.Function))
 
 
 @cache
