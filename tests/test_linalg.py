@@ -7,8 +7,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from eomgen.engine import vector
-from eomgen.linalg import (add, apply, apply_T, compose, compose_T, cross, diagonal, outer, quadratic_form,
-                           scale, subtract, total)
+from eomgen.linalg import (add, apply, apply_T, compose, compose_T, cross, diagonal, dot, half_quadratic_form,
+                           outer, scale, subtract, total)
 
 a, b, c = sp.symbols("a b c")
 ENTRIES = st.sampled_from([sp.Integer(0), sp.Integer(0), sp.Integer(2), sp.Rational(-1, 3), a, b, -c, a + b,
@@ -39,7 +39,10 @@ def test_products_equal_sympy_matrices(A, B, u, v, s):
     assert same(total([u, v, u]), 2 * Mu + Mv)
     assert same(scale(s, A), s * MA) and isinstance(scale(s, MA), sp.MatrixBase)
     assert same(diagonal(s), s * sp.eye(3))
-    assert sp.expand(quadratic_form(MA, u) - (Mu.T * MA * Mu)[0]) == 0
+    assert sp.expand(half_quadratic_form(MA, u) - (Mu.T * MA * Mu)[0] / 2) == 0
+    speeds = sp.symbols("u0:3")  # of symbols: the very sum sympy forms from ½ (uᵀ A u)
+    assert half_quadratic_form(MA, speeds) == sp.Rational(1, 2) * sp.Add(*[x * dot(row, speeds) for x, row in
+                                                                           zip(speeds, MA.tolist())])
 
 
 def test_zero_products_are_not_formed():

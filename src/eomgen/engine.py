@@ -153,9 +153,7 @@ class Symengine:
 
     def to_sympy(self, x):
         """The sympy expression of an engine scalar (`definition`, without its symbols)."""
-        if not isinstance(x, se.Basic):
-            return sp.sympify(x)
-        return (self._out.get(x) or _convert(x, self._out, self))[0]
+        return self._converted(x)[0] if isinstance(x, se.Basic) else sp.sympify(x)
 
     def definition(self, x) -> tuple[sp.Expr, list[sp.Symbol] | None]:
         """(the sympy expression of an engine scalar, its symbols): symbols from the table, powers, sin and
@@ -165,8 +163,12 @@ class Symengine:
         symengine's), anything else through symengine's own conversion, the tokens renamed. Each engine
         node is converted once per engine (`_out`: its sympy form, its `sort_key`, whether a sum was
         collected in it)."""
-        expr, _, collected = _convert(x, self._out, self)
+        expr, _, collected = self._converted(x)
         return expr, None if collected else list(map(self._symbol.__getitem__, x.free_symbols))
+
+    def _converted(self, x) -> tuple:
+        """(sympy form, `sort_key`, collected) of an engine scalar, from the memo or `_convert`."""
+        return self._out.get(x) or _convert(x, self._out, self)
 
 
 def _convert(e, memo: dict, engine: Symengine) -> tuple:

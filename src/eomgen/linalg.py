@@ -97,10 +97,12 @@ def diagonal(s) -> Matrix3:
     return tuple(mul(s, x) for x in IDENTITY)
 
 
-def quadratic_form(A, x: Sequence, w: Sequence | None = None) -> sp.Expr:
-    """wᵀ A x (w = x: xᵀ A x), as w · (A x), of an `sp.Matrix` or a list of rows."""
+def half_quadratic_form(A, x: Sequence) -> sp.Expr:
+    """½ xᵀ A x (a kinetic energy ½ uᵀ M u) as (x/2) · (A x), of an `sp.Matrix` or a list of rows: for x of
+    symbols, the ½ in each term where sympy puts it when it distributes ½ over xᵀ A x, without forming the
+    sum twice."""
     rows = A.tolist() if isinstance(A, sp.MatrixBase) else A
-    return dot(x if w is None else w, [dot(row, x) for row in rows])
+    return dot([xi / 2 for xi in x], [dot(row, x) for row in rows])
 
 
 def matmul(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:

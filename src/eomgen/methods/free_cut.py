@@ -28,7 +28,7 @@ from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from ..constraint_rows import loop_rows
 from ..kinematics import Kinematics
-from ..linalg import cross, dot, matmul, scale
+from ..linalg import cross, dot, half_quadratic_form, matmul, scale
 from ..model.loads import Point
 from ..subexpressions import samples
 from ..symbols import Generated
@@ -68,7 +68,7 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     if "M" in quantities:
         M = compact["M"] = sp.Matrix.hstack(*[free_components(kin, W) for W in columns])
         add_armature(kin, M)
-        compact["T"] = dot(u, matmul(M, u)) / 2
+        compact["T"] = half_quadratic_form(M, u)
     for key in ("b", "g"):
         if key in parts:
             compact[key] = free_components(kin, parts[key])

@@ -16,7 +16,7 @@ import sympy as sp
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
 from ..engine import vector
-from ..linalg import add, apply, cross, dot, mul, quadratic_form, scale
+from ..linalg import add, apply, cross, dot, half_quadratic_form, mul, scale
 from ..model.loads import Point
 from ..progress import progress
 from .applied import add_armature, generalized_force, potential_energy
@@ -50,7 +50,7 @@ def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     compact = {key: value.matrix() for key, value in (("M", M), ("b", b), ("g", g)) if key in quantities}
     if "M" in quantities:
         add_armature(kin, compact["M"])
-        compact["T"] = quadratic_form(compact["M"], kin.u) / 2
+        compact["T"] = half_quadratic_form(compact["M"], kin.u)
     compact["U"] = potential_energy(kin)
     for load in system.loads:
         compact[f"tau:{load.name}"] = generalized_force(kin, load)

@@ -29,7 +29,7 @@ from ..engine import Sympy, Symengine, vector
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
 from ..linalg import (ZERO, add, apply, apply_T, compose, compose_T, cross, diagonal, dot, outer,
-                      quadratic_form, scale, subtract, total)
+                      half_quadratic_form, scale, subtract, total)
 from .applied import applied_wrenches, armature, generalized_force, potential_energy
 
 
@@ -147,8 +147,7 @@ class Recursion:
                     F, k = self.up(k, *F), k.parent
         for i, inertia in armature(self.kin):
             M[i][i] += sub.scalar(inertia)
-        u = sub.vector(self.kin.u)  # T = (½ u)ᵀ M u: sympy's ½ (uᵀ M u), each term's factor ½ in place
-        T = sub.engine.to_sympy(quadratic_form(M, u, scale(sub.scalar(sp.Rational(1, 2)), u)))
+        T = sub.engine.to_sympy(half_quadratic_form(M, sub.vector(self.kin.u)))
         return sub.matrix([x for row in M for x in row], self.n), T
 
     def _meetings(self) -> dict:
