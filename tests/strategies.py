@@ -351,6 +351,19 @@ class PinocchioTree:
         M[np.ix_(perm, perm)], b[perm], g[perm] = Mp, bp, gp
         return M, b, g
 
+    def energies(self, q, u) -> tuple[float, float]:
+        """(T, U) as Pinocchio computes them (computeKineticEnergy, computePotentialEnergy: −Σ m g⃗ · c over
+        the moving joints), U with −m g⃗ · c of the bodies welded to the world (Pinocchio's universe inertia,
+        which its sum leaves out) and ½ k (ℓ − l0)² of each spring."""
+        springs = [load for load in self.tree.loads if load.kind == "spring"]
+        elastic = sum(load.stiffness * (length - load.rest_length) ** 2 / 2
+                      for load, length in zip(springs, self.spring_lengths(q)))
+        q, u = self.configuration(q), np.asarray(u, float)[self.perm]
+        world = self.model.inertias[0]
+        U = pin.computePotentialEnergy(self.model, self.data, q) + elastic \
+            - world.mass * self.model.gravity.linear @ world.lever
+        return pin.computeKineticEnergy(self.model, self.data, q, u), U
+
     def jacobians(self, q) -> dict:
         """[J_P; J_R] (LOCAL_WORLD_ALIGNED) of every body origin and named frame, keyed by eomgen name."""
         pin.computeJointJacobians(self.model, self.data, self.configuration(q))

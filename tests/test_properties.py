@@ -1,7 +1,8 @@
 """Property-based tests: random trees with adversarial names (see `strategies`).
 
 (a) Every derivation method equals Pinocchio built with its own API: M (crba), b + g
-    (nonLinearEffects), g (computeGeneralizedGravity), the Jacobians of every body origin and frame
+    (nonLinearEffects), g (computeGeneralizedGravity), T and U (computeKineticEnergy,
+    computePotentialEnergy, plus each spring's ½ k (ℓ − l0)²), the Jacobians of every body origin and frame
     (getFrameJacobian, LOCAL_WORLD_ALIGNED) and each load's generalized force (Jᵀ F from Pinocchio's
     Jacobians), relative 1e-9.
 (b) Every output path gives the same numbers (1e-12): NumPy, the module of `write_module` imported
@@ -56,6 +57,9 @@ def check_pinocchio(tree, eom: eg.EquationsOfMotion) -> None:
         close(f.M(q), M, 1e-9, f"M, state {k}")
         close(f.b(q, u), b, 1e-9, f"b, state {k}")
         close(f.g(q), g, 1e-9, f"g, state {k}")
+        T, U = ref.energies(q, u)
+        close(np.ravel(f.T(q, u)), [T], 1e-9, f"T, state {k}")
+        close(np.ravel(f.U(q)), [U], 1e-9, f"U, state {k}")
         close(f.nle(q, u), b + g, 1e-9, f"b + g, state {k}")
         for name, J in ref.jacobians(q).items():
             close(f.jacobian(name, q), J, 1e-9, f"J of {name!r}, state {k}")

@@ -1,6 +1,7 @@
 """How each body moves: rotation R, origin p, joint axes, Jacobians J_P, J_R and the bias terms J̇ u.
 
-Computed once per system and shared by every method. Every quantity is kept as named intermediates
+Computed once per system and shared by every method, each body's placement when a method first reads it
+(`Placed`: the body-frame recursions read none). Every quantity is kept as named intermediates
 (see `Subexpressions`). Time derivatives use the chain rule with q̇ = q̇(q, u) of the joints (u but for
 a body twist's speeds): the general `time_derivative` (d/dt f(q) = Σ_k ∂f/∂q_k q̇_k, through the
 intermediates) and, for J̇ u, the same rule applied along the tree (ė = Ω × e for a vector fixed in a
@@ -28,10 +29,11 @@ TIME = "t"
 
 
 class InSympy(Mapping):
-    """A read-only view of a dict of the engine's values, each converted to sympy once, when first read."""
+    """A read-only view of a dict of the engine's values with the given keys, each value converted to sympy
+    once, when first read."""
 
-    def __init__(self, values: dict, convert: Callable) -> None:
-        self._values, self._convert, self._converted = values, convert, {}
+    def __init__(self, values: dict, convert: Callable, keys: list) -> None:
+        self._values, self._convert, self._converted, self._keys = values, convert, {}, keys
 
     def __getitem__(self, key):
         if key not in self._converted:
@@ -39,10 +41,24 @@ class InSympy(Mapping):
         return self._converted[key]
 
     def __iter__(self) -> Iterator:
-        return iter(self._values)
+        return iter(self._keys)
 
     def __len__(self) -> int:
-        return len(self._values)
+        return len(self._keys)
+
+
+class Placed(dict):
+    """body → one of its placement quantities (R, p, columns, axes, chain), placed (`Kinematics._place`,
+    its parent first) on first reading: a method that never reads a body's world placement (the
+    body-frame recursions) names none of its intermediates."""
+
+    def __init__(self, place: Callable) -> None:
+        super().__init__()
+        self._place = place
+
+    def __missing__(self, body: Body):
+        self._place(body)
+        return dict.__getitem__(self, body)
 
 
 class Kinematics:
@@ -61,30 +77,33 @@ class Kinematics:
             for symbol, n in zip(joint.driven, range(3)):
                 self.sub.define(symbol, sp.diff(joint.prescribed, t, n))
             self.time_seeds.update({theta: rate, rate: acceleration})
-        self._R: dict[Body, tuple] = {}  # R and p as tuples
-        self._p: dict[Body, tuple] = {}
-        # per body, its joint's motion subspace in world axes: (u index, v of the body origin, ω), tuples
-        self._columns: dict[Body, list[tuple[int, tuple, tuple]]] = {}
+        # placed on first reading (`Placed`; bound methods and partials, not lambdas: the equations are
+        # pickled, `sweep`): R and p as tuples; per body, its joint's motion subspace in world axes,
+        # (u index, v of the body origin, ω) as tuples; the axes the joint's S and bias are written in;
+        # the moving joints from the root to the body
+        self._R: dict[Body, tuple] = Placed(self._place)
+        self._p: dict[Body, tuple] = Placed(self._place)
+        self._columns: dict[Body, list[tuple[int, tuple, tuple]]] = Placed(self._place)
+        self._axes: dict[Body, tuple] = Placed(self._place)
+        self.chain: dict[Body, list[Body]] = Placed(self._place)
         # the same in sympy, converted on first reading (the recursions read the tuples alone)
-        # (bound methods and partials, not lambdas: the equations are pickled, `sweep`)
-        self.R = InSympy(self._R, partial(self.sub.matrix, cols=3))
-        self.p = InSympy(self._p, self.sub.matrix)
-        self.columns = InSympy(self._columns, self._columns_in_sympy)
-        self._axes: dict[Body, tuple] = {}  # the axes the joint's S and bias are written in
-        self.chain: dict[Body, list[Body]] = {}  # the moving joints from the root to the body
+        bodies = list(system.bodies)
+        self.R = InSympy(self._R, partial(self.sub.matrix, cols=3), bodies)
+        self.p = InSympy(self._p, self.sub.matrix, bodies)
+        self.columns = InSympy(self._columns, self._columns_in_sympy, bodies)
         self.on_tip: dict[Body, str] = {}  # bodies beyond a flexible link: the link's joint
+        for body in bodies:
+            parent = body.parent
+            if parent is not None and (isinstance(parent.joint, FlexibleLink) or parent in self.on_tip):
+                self.on_tip[body] = self.on_tip.get(parent, parent.joint.name)
         self._cache: dict = {}
-        for body in system.bodies:
-            self._place(body)
 
     def _place(self, body: Body) -> None:
-        """R, p of the body, and its joint's columns: S in world axes (through R_joint where the joint
-        gives S in joint axes, else through R of the body)."""
+        """R, p of the body (its parent's placed first), and its joint's columns: S in world axes (through
+        R_joint where the joint gives S in joint axes, else through R of the body)."""
         parent, joint, add_all, e = body.parent, body.joint, self.sub.add_matrix, self.sub.vector
         R_parent = self._R[parent] if parent else IDENTITY
         p_parent = self._p[parent] if parent else ZERO
-        if parent is not None and (isinstance(parent.joint, FlexibleLink) or parent in self.on_tip):
-            self.on_tip[body] = self.on_tip.get(parent, parent.joint.name)
         if parent is not None and isinstance(parent.joint, FlexibleLink):  # children sit on the tip
             R_tip, t_tip = parent.joint.tip()
             p_parent = add(p_parent, apply(R_parent, e(t_tip)))
@@ -177,7 +196,7 @@ class Kinematics:
         """Rotational Jacobian: column i is Σ ω_k over the joints on the way whose motion has u_i."""
         self.rigid(body)
         J = [[0] * self.n for _ in range(3)]
-        for k in self.chain.get(body, []):
+        for k in self.chain[body] if body is not None else []:
             for i, _, w in self._columns[k]:
                 for row, x in enumerate(w):
                     J[row][i] += x

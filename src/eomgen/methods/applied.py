@@ -63,10 +63,15 @@ def spring_potential(kin: Kinematics, spring: Spring) -> sp.Expr:
     return spring.stiffness * (sp.sqrt((d.T * d)[0]) - spring.rest_length) ** 2 / 2
 
 
+def spring_energies(kin: Kinematics) -> list[sp.Expr]:
+    """½ k (‖r_a − r_b‖ − l0)² of each spring."""
+    return [spring_potential(kin, s) for s in kin.system.loads if isinstance(s, Spring)]
+
+
 def potential_energy(kin: Kinematics) -> sp.Expr:
     """U = −Σ mᵢ g⃗ · r_Sᵢ + Σ ½ k (‖r_a − r_b‖ − l0)² (gravity and springs)."""
     return sp.Add(*[-mul(body.mass, dot(kin.system.gravity, kin.com(body))) for body in kin.system.bodies],
-                  *[spring_potential(kin, s) for s in kin.system.loads if isinstance(s, Spring)])
+                  *spring_energies(kin))
 
 
 def armature(kin: Kinematics) -> list[tuple[int, sp.Expr]]:

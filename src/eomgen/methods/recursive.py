@@ -12,7 +12,9 @@ RNEA, body axes, with the joint's motion (v, ω) = Σ_k S_k u_k and bias (a_rel,
     f_i = m a_S,  n_i = Θ α_i + Ω_i × Θ Ω_i + c × f_i,   a_S = a_i + α_i × c + Ω_i × (Ω_i × c),
     F_i = f_i + Σ_c R_c F_c,  N_i = n_i + Σ_c (R_c N_c + t_c × R_c F_c),  τ_k = v_k · F_i + ω_k · N_i,
 the base accelerating with −g⃗ (gravity as an acceleration of the world). b is the pass with u̇ = 0 and
-g⃗ = 0, g the pass with u = u̇ = 0; the inverse dynamics adds the armature's I_a u̇ (as M's diagonal).
+g⃗ = 0, g the pass with u = u̇ = 0; the inverse dynamics adds the armature's I_a u̇ (as M's diagonal). The
+potential energy reads the gravity pass too (a_i is −g⃗ in body i's axes), so the world placements of
+the bodies are never formed: U = Σ m_i (σ_i + a_i · c_i), σ_i = −g⃗ · p_i = σ_p + a_p · t_i.
 Every vector is named before it is rotated or crossed, which keeps the code and its derivatives
 (`eomgen.derivatives`) short.
 CRBA: composite (m, h = m c, I_O) from the leaves, moved to the parent by
@@ -25,12 +27,12 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..engine import Sympy, Symengine, vector
+from ..engine import Sympy, Symengine, total_of, vector
 from ..eom import EquationsOfMotion
 from ..kinematics import Kinematics
-from ..linalg import (ZERO, add, apply, apply_T, compose, compose_T, cross, diagonal, dot, outer,
-                      half_quadratic_form, scale, subtract, total)
-from .applied import applied_wrenches, armature, generalized_force, potential_energy
+from ..linalg import (ZERO, add, apply, apply_T, compose, compose_T, cross, diagonal, dot,
+                      half_quadratic_form, mul, outer, scale, subtract, total)
+from .applied import applied_wrenches, armature, generalized_force, spring_energies
 
 
 class Recursion:
@@ -49,6 +51,7 @@ class Recursion:
         self.biases = {b: tuple(self.sub.add_matrix(e(x)) for x in b.joint.bias())
                        for b in bodies if self.S[b]}
         self._moved: dict = {}  # (a, k): body a's subspace in body k's frame
+        self._motions: dict = {}  # (u, u̇, g⃗): `motions`
 
     def up(self, b, lin, ang) -> tuple[tuple, tuple]:
         """A force (lin, ang) in body b's frame, expressed in its parent's frame."""
@@ -76,12 +79,27 @@ class Recursion:
         return sub.add_matrix(w), sub.add_matrix(al), sub.add_matrix(a)
 
     def motions(self, u, ud, gravity: sp.Matrix) -> dict:
-        """(Ω, α, a) of every body in its own axes, parents first, the base accelerating with −g⃗."""
-        motion, u, ud, gravity = {}, self.sub.vector(u), self.sub.vector(ud), self.sub.vector(gravity)
+        """(Ω, α, a) of every body in its own axes, parents first, the base accelerating with −g⃗ (once per
+        u, u̇ and g⃗)."""
+        key = u, ud, gravity = self.sub.vector(u), self.sub.vector(ud), self.sub.vector(gravity)
+        if key not in self._motions:
+            motion = self._motions[key] = {}
+            for b in self.bodies:
+                parent = (ZERO, ZERO, tuple(-x for x in gravity)) if b.parent is None else motion[b.parent]
+                motion[b] = self._motion(b, parent, u, ud)
+        return self._motions[key]
+
+    def gravity_energy(self, gravity: sp.Matrix) -> sp.Expr:
+        """−Σ m_i g⃗ · r_Si in body axes, from the gravity pass (u = u̇ = 0), whose a_i is −g⃗ in body i's
+        axes: Σ m_i (σ_i + a_i · c_i), σ_i = −g⃗ · p_i = σ_p + a_p · t_i (σ = 0 and a = −g⃗ at the base)."""
+        sub, rest = self.sub, [0] * self.n
+        motion, sigma, U = self.motions(rest, rest, gravity), {}, []
+        base = tuple(-x for x in sub.vector(gravity))
         for b in self.bodies:
-            parent = (ZERO, ZERO, tuple(-x for x in gravity)) if b.parent is None else motion[b.parent]
-            motion[b] = self._motion(b, parent, u, ud)
-        return motion
+            a_p, s_p = (base, 0) if b.parent is None else (motion[b.parent][2], sigma[b.parent])
+            sigma[b] = sub.add(s_p + dot(a_p, self.X[b][1]))
+            U.append(mul(sub.scalar(b.mass), sigma[b] + dot(motion[b][2], sub.vector(b.com))))
+        return sub.engine.to_sympy(total_of(U))
 
     def rnea(self, u, ud, gravity: sp.Matrix, loads: bool = False) -> sp.Matrix:
         """τ_k = v_k · F_i + ω_k · N_i of the pass with speeds u, accelerations ud and gravity g⃗; with
@@ -210,7 +228,8 @@ def inverse_dynamics(kin: Kinematics, loads: bool = False) -> sp.Matrix:
 def derive(kin: Kinematics, quantities=("M", "b", "g")) -> EquationsOfMotion:
     system, n = kin.system, kin.n
     recursion, zero, rest = Recursion(kin), sp.zeros(3, 1), [0] * n
-    compact = {"U": potential_energy(kin)}  # only what is asked: g alone needs one gravity pass
+    # only what is asked: g alone needs one gravity pass (which U reads)
+    compact = {"U": sp.Add(recursion.gravity_energy(system.gravity), *spring_energies(kin))}
     if "M" in quantities:
         compact["M"], compact["T"] = recursion.crba()
     if "b" in quantities:
