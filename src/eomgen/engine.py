@@ -106,7 +106,8 @@ class Symengine:
         self._symbol: dict[se.Symbol, sp.Symbol] = {}
         self._placeholder: dict[sp.Symbol, sp.Symbol] = {}  # sympy symbols named as their tokens (`scalar`)
         self._by_name: dict[str, sp.Symbol] = {}
-        self._in: dict[sp.Basic, se.Basic] = {}
+        # sympy's 0 is Python's in the engine: the products (`linalg`) skip it at the cost of a hash
+        self._in: dict[sp.Basic, se.Basic] = {sp.S.Zero: 0}
         self._out: dict[se.Basic, tuple] = {}  # `definition`
 
     def owns(self, x) -> bool:

@@ -1,4 +1,4 @@
-"""Small vector and matrix products on plain tuples of scalars that never form 0 · x.
+"""Small vector and matrix products on plain tuples of scalars that never form 0 · x or x + 0.
 
 The hot core (kinematics, the recursions) keeps a 3-vector as a tuple (x, y, z) and a 3×3 matrix as
 the tuple of its 9 entries row by row (the order in which `sp.Matrix` iterates them): indexing a
@@ -8,7 +8,8 @@ answers `0 * (a + b)` by asking whether a + b is finite, which walks the whole e
 many structural zeros (axes, placements, Jacobian columns), so the products skip them. `cross` and
 `scale` take an `sp.Matrix` as well and then give one; `matmul` multiplies `sp.Matrix`es of any shape.
 The scalars are sympy's or the hot core's engine's (`engine`); the constants are Python integers, which
-either engine takes as its own."""
+either engine takes as its own (symengine's 0 is Python's too: symengine converts a Python integer at
+three times the cost of a product, and compares its own 0 with Python's at that cost)."""
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -35,19 +36,19 @@ def dot(a, b) -> sp.Expr:
 
 
 def add(a: Sequence, b: Sequence) -> tuple:
-    """a + b, entry by entry."""
-    return tuple(x + y for x, y in zip(a, b))
+    """a + b, entry by entry (x + 0 is x)."""
+    return tuple(y if x in ZEROS else x if y in ZEROS else x + y for x, y in zip(a, b))
 
 
 def subtract(a: Sequence, b: Sequence) -> tuple:
-    """a − b, entry by entry."""
-    return tuple(x - y for x, y in zip(a, b))
+    """a − b, entry by entry (x − 0 is x, 0 − y is −y)."""
+    return tuple(x if y in ZEROS else -y if x in ZEROS else x - y for x, y in zip(a, b))
 
 
 def total(terms, start: Sequence = ZERO) -> tuple:
     """start + Σ terms, entry by entry, each entry summed once (a running sum would sort the terms it
     holds again at every step: quadratic in the terms)."""
-    entries = [[x] for x in start]
+    entries = [[] if x in ZEROS else [x] for x in start]
     for term in terms:
         for entry, x in zip(entries, term):
             entry.append(x)
