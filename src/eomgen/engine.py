@@ -89,6 +89,10 @@ class Sympy:
     def remember(self, x, engine_form) -> None:
         """Nothing to remember: sympy is the engine."""
 
+    def intermediate(self, symbol: sp.Symbol) -> sp.Symbol:
+        """A new intermediate's symbol in the engine: itself."""
+        return symbol
+
     def to_sympy(self, x):
         return sp.sympify(x)
 
@@ -138,6 +142,11 @@ class Symengine:
 
     def scalars(self, x: Sequence) -> tuple:
         return tuple(map(self.scalar, vector(x)))
+
+    def intermediate(self, symbol: sp.Symbol) -> se.Symbol:
+        """A new intermediate's symbol in the engine (`scalar` of a symbol it has not met)."""
+        self._in[symbol] = token = self.token(symbol)
+        return token
 
     def remember(self, x: sp.Expr, engine_form) -> None:
         """x (sympy, converted from `engine_form` without collecting terms) is `engine_form` in the

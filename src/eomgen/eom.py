@@ -57,6 +57,12 @@ class EquationsOfMotion(ClosedForms):
     compact: dict[str, sp.Basic]  # M, b, g, T, U and the loads' generalized forces under "tau:<name>"
     extras: dict = field(default_factory=dict)  # method-specific results (free cut: reactions, ...)
     _closed: dict = field(default_factory=dict, repr=False)
+    # what the layers above build once per equations (the function catalogue), gone with them
+    made: dict = field(default_factory=dict, repr=False)
+
+    def __getstate__(self) -> dict:
+        """Pickled without `made`, which holds functions and is built again on demand."""
+        return {**self.__dict__, "made": {}}
 
     @property
     def system(self) -> System:

@@ -1,7 +1,7 @@
 """How each body moves: rotation R, origin p, joint axes, Jacobians J_P, J_R and the bias terms J̇ u.
 
 Computed once per system and shared by every method, each body's placement when a method first reads it
-(`Placed`: the body-frame recursions read none). Every quantity is kept as named intermediates
+(`placements`: the body-frame recursions read none). Every quantity is kept as named intermediates
 (see `Subexpressions`). Time derivatives use the chain rule with q̇ = q̇(q, u) of the joints (u but for
 a body twist's speeds): the general `time_derivative` (d/dt f(q) = Σ_k ∂f/∂q_k q̇_k, through the
 intermediates) and, for J̇ u, the same rule applied along the tree (ė = Ω × e for a vector fixed in a
@@ -22,6 +22,7 @@ from .linalg import IDENTITY, ZERO, add, apply, compose, cross, dot, matmul, sca
 from .model import FlexibleLink, Placement
 from .model.loads import Point
 from .model.system import Body, Frame, System
+from .placements import Field, Placements, World, columns_in_sympy
 from .subexpressions import Subexpressions
 from .symbols import t
 
@@ -47,20 +48,6 @@ class InSympy(Mapping):
         return len(self._keys)
 
 
-class Placed(dict):
-    """body → one of its placement quantities (R, p, columns, axes, chain), placed (`Kinematics._place`,
-    its parent first) on first reading: a method that never reads a body's world placement (the
-    body-frame recursions) names none of its intermediates."""
-
-    def __init__(self, place: Callable) -> None:
-        super().__init__()
-        self._place = place
-
-    def __missing__(self, body: Body):
-        self._place(body)
-        return dict.__getitem__(self, body)
-
-
 class Kinematics:
     """World-frame kinematics of every body of `system`, as named sub-results in `self.sub`."""
 
@@ -77,51 +64,21 @@ class Kinematics:
             for symbol, n in zip(joint.driven, range(3)):
                 self.sub.define(symbol, sp.diff(joint.prescribed, t, n))
             self.time_seeds.update({theta: rate, rate: acceleration})
-        # placed on first reading (`Placed`; bound methods and partials, not lambdas: the equations are
-        # pickled, `sweep`): R and p as tuples; per body, its joint's motion subspace in world axes,
-        # (u index, v of the body origin, ω) as tuples; the axes the joint's S and bias are written in;
-        # the moving joints from the root to the body
-        self._R: dict[Body, tuple] = Placed(self._place)
-        self._p: dict[Body, tuple] = Placed(self._place)
-        self._columns: dict[Body, list[tuple[int, tuple, tuple]]] = Placed(self._place)
-        self._axes: dict[Body, tuple] = Placed(self._place)
-        self.chain: dict[Body, list[Body]] = Placed(self._place)
-        # the same in sympy, converted on first reading (the recursions read the tuples alone)
-        bodies = list(system.bodies)
+        # the world placements, formed on first reading (`placements`), by field; the same in sympy,
+        # converted on first reading (the recursions read the tuples alone; partials, not lambdas: the
+        # equations are pickled, `sweep`)
+        bodies, placed = list(system.bodies), Placements(self.sub)
+        self._R, self._p, self._columns, self._axes, self.chain = (Field(placed, f, bodies)
+                                                                    for f in World._fields)
         self.R = InSympy(self._R, partial(self.sub.matrix, cols=3), bodies)
         self.p = InSympy(self._p, self.sub.matrix, bodies)
-        self.columns = InSympy(self._columns, self._columns_in_sympy, bodies)
+        self.columns = InSympy(self._columns, partial(columns_in_sympy, self.sub), bodies)
         self.on_tip: dict[Body, str] = {}  # bodies beyond a flexible link: the link's joint
         for body in bodies:
             parent = body.parent
             if parent is not None and (isinstance(parent.joint, FlexibleLink) or parent in self.on_tip):
                 self.on_tip[body] = self.on_tip.get(parent, parent.joint.name)
         self._cache: dict = {}
-
-    def _place(self, body: Body) -> None:
-        """R, p of the body (its parent's placed first), and its joint's columns: S in world axes (through
-        R_joint where the joint gives S in joint axes, else through R of the body)."""
-        parent, joint, add_all, e = body.parent, body.joint, self.sub.add_matrix, self.sub.vector
-        R_parent = self._R[parent] if parent else IDENTITY
-        p_parent = self._p[parent] if parent else ZERO
-        if parent is not None and isinstance(parent.joint, FlexibleLink):  # children sit on the tip
-            R_tip, t_tip = parent.joint.tip()
-            p_parent = add(p_parent, apply(R_parent, e(t_tip)))
-            R_parent = add_all(compose(R_parent, e(R_tip)))
-        R_joint = add_all(compose(R_parent, e(body.placement.rotation)))
-        p_joint = add(p_parent, apply(R_parent, e(body.placement.translation)))
-        R_q, t_q = joint.motion()
-        R = self._R[body] = add_all(compose(R_joint, e(R_q)))
-        self._p[body] = add_all(add(p_joint, apply(R_joint, e(t_q))))
-        S = joint.joint_frame_subspace()
-        axes = self._axes[body] = R_joint if S is not None else R
-        S = joint.subspace() if S is None else S
-        columns = self._columns[body] = [(i, add_all(apply(axes, e(v))), add_all(apply(axes, e(w))))
-                                         for i, (v, w) in zip(body.speed_indices, S)]
-        self.chain[body] = (list(self.chain[parent]) if parent else []) + ([body] if columns else [])
-
-    def _columns_in_sympy(self, columns: list[tuple[int, tuple, tuple]]) -> list[tuple[int, tuple, tuple]]:
-        return [(i, tuple(self.sub.matrix(v)), tuple(self.sub.matrix(w))) for i, v, w in columns]
 
     # --- positions ---------------------------------------------------------------------------
     def position(self, point: Point) -> sp.Matrix:

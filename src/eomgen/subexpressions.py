@@ -85,27 +85,36 @@ class Subexpressions:
         is named by its sympy form and answered in the engine (an integer as the engine's)."""
         if isinstance(expr, int):
             return self.engine.scalar(sp.Integer(expr))
-        if self.engine.owns(expr):
-            if is_trivial(expr):
-                return expr
-            if expr not in self._named_engine:
-                definition, symbols = self.engine.definition(expr)
-                if symbols is not None and not is_trivial(definition):  # not collected: the same terms
-                    self.engine.remember(definition, expr)
-                name = self._name(definition, symbols)
-                self._named_engine[expr] = self.engine.scalar(name)
-            return self._named_engine[expr]
-        return self._name(sp.sympify(expr))
+        if not self.engine.owns(expr):
+            return self._name(sp.sympify(expr))
+        if is_trivial(expr):
+            return expr
+        named = self._named_engine.get(expr)
+        if named is None:
+            definition, symbols = self.engine.definition(expr)
+            if symbols is None or is_trivial(definition):  # collected: its terms may have cancelled
+                named = self.engine.scalar(self._name(definition))
+            else:  # the engine's own terms, known to the engine from here on
+                self.engine.remember(definition, expr)
+                name = self._named.get(definition)
+                named = self.engine.scalar(name) if name is not None else \
+                    self.engine.intermediate(self._new(definition, symbols))
+            self._named_engine[expr] = named
+        return named
 
-    def _name(self, expr: sp.Expr, symbols=None) -> sp.Expr:
-        """The name of a sympy expression (`add`), `symbols` its symbols where known already."""
+    def _name(self, expr: sp.Expr) -> sp.Expr:
+        """The name of a sympy expression (`add`)."""
         if is_trivial(expr):
             return expr
         if expr in self._named:  # the same expression twice: one name
             return self._named[expr]
-        k = len(self.definitions)
+        return self._new(expr, expr.free_symbols)
+
+    def _new(self, expr: sp.Expr, symbols) -> Generated:
+        """A new intermediate named `expr` (not trivial, not named yet) with its `symbols`."""
+        k = len(self._symbols)
         symbol = Generated(f"{self.prefix}{k}", (self.prefix, k))  # same model, same order
-        self.define(symbol, expr, symbols)
+        self._record(symbol, expr, symbols)
         self._named[expr] = symbol
         return symbol
 
@@ -191,18 +200,25 @@ class Subexpressions:
                                    key=lambda ky: (ky[0], ky[1].name))]
         return self._gradients[expr]
 
-    def define(self, symbol: sp.Symbol, expr: sp.Expr, symbols=None) -> sp.Symbol:
-        """Name `expr` by the given `symbol` (one of eomgen's, new here), an intermediate like the others;
-        `symbols`, where given, are the expression's symbols (else its free symbols)."""
+    def define(self, symbol: sp.Symbol, expr: sp.Expr) -> sp.Symbol:
+        """Name `expr` by the given `symbol` (one of eomgen's, new here), an intermediate like the others."""
         if symbol in self.definitions:
             raise ValueError(f"{symbol} is defined already")
-        self._index[symbol] = len(self.definitions)
-        self._symbols.append(symbol)
-        symbols = sp.sympify(expr).free_symbols if symbols is None else symbols
-        self._uses[symbol] = tuple(s for s in symbols if s in self.definitions)
-        self._reads[symbol] = frozenset(s for s in symbols if s not in self.definitions)
-        self.definitions[symbol] = sp.sympify(expr)
+        expr = sp.sympify(expr)
+        self._record(symbol, expr, expr.free_symbols)
         return symbol
+
+    def _record(self, symbol: sp.Symbol, expr: sp.Expr, symbols) -> None:
+        """The definition symbol = expr, `symbols` the expression's symbols: the intermediates it uses and
+        the other symbols it reads."""
+        defined = self.definitions
+        self._index[symbol] = len(self._symbols)
+        self._symbols.append(symbol)
+        uses, reads = [], []
+        for s in symbols:
+            (uses if s in defined else reads).append(s)
+        self._uses[symbol], self._reads[symbol] = tuple(uses), frozenset(reads)
+        defined[symbol] = expr
 
     def _direct(self, expr: sp.Expr, seeds: Mapping[sp.Symbol, sp.Expr], known: dict) -> sp.Expr:
         """Forward-mode derivative of one definition: sum, product, power and the rules of the functions

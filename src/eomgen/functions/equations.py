@@ -2,8 +2,6 @@
 (the functions themselves: `outputs`)."""
 from __future__ import annotations
 
-import weakref
-
 from ..eom import EquationsOfMotion
 from ..errors import ModelError
 from . import outputs
@@ -17,14 +15,12 @@ QUANTITIES = {"M": "mass matrix M(q)", "b": "Coriolis and centrifugal terms b(q,
               "T": "kinetic energy T(q, u)",
               "U": "potential energy U(q) (gravity, springs, bending)"}
 
-_made: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
 def catalogue(eom: EquationsOfMotion) -> Catalogue:
     """The catalogue of `eom`, built once per equations: the quantities, the centre of mass and centroidal
     momentum, the constraint rows, the dynamics' derivatives, q̇, the numeric algorithms' building blocks
-    and the families per frame, load and joint."""
-    if eom not in _made:
+    and the families per frame, load and joint (kept in `eom.made`: a dictionary keyed weakly by the
+    equations would keep them for ever, as the functions refer to them)."""
+    if "catalogue" not in eom.made:
         missing = {k: f"{k} was not derived: derive it (quantities=...) to evaluate it"
                    for k in ("M", "b", "g", "T", "U") if k not in eom.compact}
         functions = [*quantities(eom), *outputs.centroidal(eom, missing), *outputs.constraints(eom, missing),
@@ -34,8 +30,9 @@ def catalogue(eom: EquationsOfMotion) -> Catalogue:
         inputs = {"q": list(eom.q), "u": list(eom.u), "ud": list(system.ud),
                   "p": sorted_parameters(system.parameters)}
         families = outputs.families(eom, missing)
-        _made[eom] = Catalogue(eom.subexpressions, inputs, functions, families, missing, eager(eom))
-    return _made[eom]
+        eom.made["catalogue"] = Catalogue(eom.subexpressions, inputs, functions, families, missing,
+                                          eager(eom))
+    return eom.made["catalogue"]
 
 
 def expect_equations(eom, entry: str, *others: type) -> None:
