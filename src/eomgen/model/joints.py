@@ -61,12 +61,12 @@ def rotation_about(a: sp.Matrix, angle: sp.Expr) -> sp.Matrix:
     c, s = sp.cos(angle), sp.sin(angle)
     principal = {(1, 0, 0): 0, (0, 1, 0): 1, (0, 0, 1): 2}
     for sign in (1, -1):
-        if tuple(sign * a) in principal:  # exact forms, no (1 − cos) terms
-            i = principal[tuple(sign * a)]
+        i = principal.get(tuple(sign * x for x in a))
+        if i is not None:  # exact forms, no (1 − cos) terms; one matrix built (setting entries costs more)
             j, k = (i + 1) % 3, (i + 2) % 3
-            R = sp.eye(3)
-            R[j, j], R[j, k], R[k, j], R[k, k] = c, -sign * s, sign * s, c
-            return R
+            R = [int(r == col) for r in range(3) for col in range(3)]
+            R[4 * j], R[3 * j + k], R[3 * k + j], R[4 * k] = c, -sign * s, sign * s, c
+            return sp.Matrix(3, 3, R)
     return sp.eye(3) * c + s * skew(a) + (1 - c) * (a * a.T)
 
 
