@@ -67,7 +67,8 @@ class Kinematics:
         # the world placements, formed on first reading (`placements`), by field; the same in sympy,
         # converted on first reading (the recursions read the tuples alone; partials, not lambdas: the
         # equations are pickled, `sweep`)
-        bodies, placed = list(system.bodies), Placements(self.sub)
+        bodies = list(system.bodies)
+        placed = Placements(self.sub, bodies)
         self._R, self._p, self._columns, self._axes, self.chain = (Field(placed, f, bodies)
                                                                     for f in World._fields)
         self.R = InSympy(self._R, partial(self.sub.matrix, cols=3), bodies)

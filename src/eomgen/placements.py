@@ -30,14 +30,23 @@ class World(NamedTuple):
 
 
 class Placements(dict):
-    """body → its `World` placement, formed on first reading (`place`)."""
+    """body → its `World` placement, formed on first reading (`place`) with those of its ancestors not
+    placed yet, root first (a loop: a chain of any length); a KeyError for a body not among `bodies`."""
 
-    def __init__(self, sub: Subexpressions) -> None:
+    def __init__(self, sub: Subexpressions, bodies: list[Body]) -> None:
         super().__init__()
-        self.sub = sub
+        self.sub, self.bodies = sub, frozenset(bodies)
 
     def __missing__(self, body: Body) -> World:
-        world = self[body] = place(self.sub, body, None if body.parent is None else self[body.parent])
+        if body not in self.bodies:
+            raise KeyError(body)
+        path = []
+        while body is not None and not dict.__contains__(self, body):
+            path.append(body)
+            body = body.parent
+        world = None if body is None else dict.__getitem__(self, body)
+        for body in reversed(path):
+            world = self[body] = place(self.sub, body, world)
         return world
 
 
