@@ -15,6 +15,7 @@ QUANTITIES = {"M": "mass matrix M(q)", "b": "Coriolis and centrifugal terms b(q,
               "T": "kinetic energy T(q, u)",
               "U": "potential energy U(q) (gravity, springs, bending)"}
 
+
 def catalogue(eom: EquationsOfMotion) -> Catalogue:
     """The catalogue of `eom`, built once per equations: the quantities, the centre of mass and centroidal
     momentum, the constraint rows, the dynamics' derivatives, q̇, the numeric algorithms' building blocks
