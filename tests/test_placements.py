@@ -1,7 +1,7 @@
 """World placements formed on first reading (`eomgen.placements`), and the recursive method's potential
 energy, which reads none of them (the gravity pass in body axes).
 
-- A deep body read first is placed with its ancestors in a loop (600 links: no recursion limit), and
+- A deep body read first is placed with its ancestors in a loop (no recursion per ancestor), and
   the intermediates are the same whichever body is read first.
 - The placements answer like a mapping: None and bodies of other systems are not in it.
 - U of the recursive method equals U through the world placements (projected Newton-Euler: −Σ m g⃗ · r_S)
@@ -9,6 +9,9 @@ energy, which reads none of them (the gravity pass in body axes).
   free-flyer base on a rotated placement, a mimic joint, a body welded to the world and a fixed child,
   a massless body, a spring, symbolic gravity and mass, in both engines."""
 from __future__ import annotations
+
+import inspect
+import sys
 
 import numpy as np
 import pytest
@@ -28,10 +31,16 @@ def chain(n: int) -> eg.System:
 
 
 def test_a_deep_body_read_first_is_placed_with_its_ancestors_in_a_loop():
-    system = chain(600)
-    kin = Kinematics(system)
-    leaf = system.bodies[-1]
-    assert len(kin.chain[leaf]) == 600 and kin.J_R(leaf).shape == (3, 600)
+    """Placing does not recurse per ancestor: 150 links read from the leaf with 100 frames to spare (a
+    recursion per ancestor needs two frames each: a 500-link chain hits Python's default limit)."""
+    system = chain(150)
+    kin, leaf, limit = Kinematics(system), system.bodies[-1], sys.getrecursionlimit()
+    sys.setrecursionlimit(len(inspect.stack()) + 100)
+    try:
+        R = kin.R[leaf]
+    finally:
+        sys.setrecursionlimit(limit)
+    assert R.shape == (3, 3) and len(kin.chain[leaf]) == 150 and kin.J_R(leaf).shape == (3, 150)
 
 
 def test_the_same_intermediates_whichever_body_is_read_first():
