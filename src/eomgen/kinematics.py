@@ -30,11 +30,10 @@ TIME = "t"
 
 
 class InSympy(Mapping):
-    """A read-only view of a dict of the engine's values with the given keys, each value converted to sympy
-    once, when first read."""
+    """A read-only view of a mapping of the engine's values, each converted to sympy once, when first read."""
 
-    def __init__(self, values: dict, convert: Callable, keys: list) -> None:
-        self._values, self._convert, self._converted, self._keys = values, convert, {}, keys
+    def __init__(self, values: Mapping, convert: Callable) -> None:
+        self._values, self._convert, self._converted = values, convert, {}
 
     def __getitem__(self, key):
         if key not in self._converted:
@@ -42,10 +41,10 @@ class InSympy(Mapping):
         return self._converted[key]
 
     def __iter__(self) -> Iterator:
-        return iter(self._keys)
+        return iter(self._values)
 
     def __len__(self) -> int:
-        return len(self._keys)
+        return len(self._values)
 
 
 class Kinematics:
@@ -67,15 +66,13 @@ class Kinematics:
         # the world placements, formed on first reading (`placements`), by field; the same in sympy,
         # converted on first reading (the recursions read the tuples alone; partials, not lambdas: the
         # equations are pickled, `sweep`)
-        bodies = list(system.bodies)
-        placed = Placements(self.sub, bodies)
-        self._R, self._p, self._columns, self._axes, self.chain = (Field(placed, f, bodies)
-                                                                    for f in World._fields)
-        self.R = InSympy(self._R, partial(self.sub.matrix, cols=3), bodies)
-        self.p = InSympy(self._p, self.sub.matrix, bodies)
-        self.columns = InSympy(self._columns, partial(columns_in_sympy, self.sub), bodies)
+        placed = Placements(self.sub, system.bodies)
+        self._R, self._p, self._columns, self._axes, self.chain = (Field(placed, f) for f in World._fields)
+        self.R = InSympy(self._R, partial(self.sub.matrix, cols=3))
+        self.p = InSympy(self._p, self.sub.matrix)
+        self.columns = InSympy(self._columns, partial(columns_in_sympy, self.sub))
         self.on_tip: dict[Body, str] = {}  # bodies beyond a flexible link: the link's joint
-        for body in bodies:
+        for body in system.bodies:
             parent = body.parent
             if parent is not None and (isinstance(parent.joint, FlexibleLink) or parent in self.on_tip):
                 self.on_tip[body] = self.on_tip.get(parent, parent.joint.name)
@@ -154,7 +151,7 @@ class Kinematics:
         """Rotational Jacobian: column i is Σ ω_k over the joints on the way whose motion has u_i."""
         self.rigid(body)
         J = [[0] * self.n for _ in range(3)]
-        for k in self.chain[body] if body is not None else []:
+        for k in self.chain.get(body, []):
             for i, _, w in self._columns[k]:
                 for row, x in enumerate(w):
                     J[row][i] += x

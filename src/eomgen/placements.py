@@ -31,14 +31,15 @@ class World(NamedTuple):
 
 class Placements(dict):
     """body → its `World` placement, formed on first reading (`place`) with those of its ancestors not
-    placed yet, root first (a loop: a chain of any length); a KeyError for a body not among `bodies`."""
+    placed yet, root first (a loop: a chain of any length); a KeyError for a body not among `bodies` (the
+    system's, in its order)."""
 
     def __init__(self, sub: Subexpressions, bodies: list[Body]) -> None:
         super().__init__()
-        self.sub, self.bodies = sub, frozenset(bodies)
+        self.sub, self.bodies, self._known = sub, list(bodies), frozenset(bodies)
 
     def __missing__(self, body: Body) -> World:
-        if body not in self.bodies:
+        if body not in self._known:
             raise KeyError(body)
         path = []
         while body is not None and not dict.__contains__(self, body):
@@ -51,19 +52,20 @@ class Placements(dict):
 
 
 class Field(Mapping):
-    """One field of the bodies' placements (R, p, columns, axes or chain), a read-only view by body."""
+    """One field of the bodies' placements (R, p, columns, axes or chain), a read-only view by body, in the
+    system's order."""
 
-    def __init__(self, placements: Placements, field: str, bodies: list[Body]) -> None:
-        self._placements, self._index, self._bodies = placements, World._fields.index(field), bodies
+    def __init__(self, placements: Placements, field: str) -> None:
+        self._placements, self._index = placements, World._fields.index(field)
 
     def __getitem__(self, body: Body):
         return self._placements[body][self._index]
 
     def __iter__(self) -> Iterator:
-        return iter(self._bodies)
+        return iter(self._placements.bodies)
 
     def __len__(self) -> int:
-        return len(self._bodies)
+        return len(self._placements.bodies)
 
 
 def place(sub: Subexpressions, body: Body, parent: World | None) -> World:

@@ -125,7 +125,7 @@ def free_components(kin: Kinematics, W: dict) -> sp.Matrix:
     """The generalized forces of joint wrenches W (at each joint origin): per column (u_i, v, ω) of a
     body's joint, v · F + ω · T."""
     tau = sp.zeros(kin.n, 1)
-    for body, cols in kin.columns.items():  # every body, in the system's order
+    for body, cols in kin.columns.items():
         F, T = W[body]
         for i, v, w in cols:
             tau[i] += dot(v, F) + dot(w, T)
