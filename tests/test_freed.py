@@ -6,6 +6,7 @@ from __future__ import annotations
 import gc
 import weakref
 
+import numpy as np
 import pytest
 
 import eomgen as eg
@@ -33,6 +34,42 @@ def test_dropped_generated_functions_free_their_equations():
     f = eg.codegen(eg.derive(spatial_arm_3dof()))
     f.M([0.1, 0.2, 0.3], params={str(p): 1.0 for p in f.eom.system.parameters})
     held = [weakref.ref(x) for x in (f.eom, f.eom.kinematics.sub)]
+    del f
+    gc.collect()
+    assert [ref() for ref in held] == [None] * len(held)
+
+
+def test_dropped_c_functions_free_their_equations_and_the_kept_ones_still_batch_in_lanes(monkeypatch):
+    """Two codegens of one model share its extension module, which stays imported with its first-batch
+    hook: dropping one frees its equations (the hook holds their vector printing weakly), and the other's
+    first batch still compiles the vector functions, once, and equals its per-state values."""
+    from eomgen.printers import c_extension
+
+    made = []
+    monkeypatch.setattr(c_extension, "lanes_module",
+                        lambda *args, real=c_extension.lanes_module: made.append(args) or real(*args))
+    kept, dropped = (eg.codegen(eg.derive(spatial_arm_3dof()), backend="c") for _ in range(2))
+    assert dropped.generated("M").function.__self__ is kept.generated("M").function.__self__
+    held = [weakref.ref(x) for x in (dropped.eom, dropped.eom.kinematics.sub)]
+    del dropped
+    gc.collect()
+    assert [ref() for ref in held] == [None] * len(held)
+    params = {str(p): 1.0 + 0.1 * k for k, p in enumerate(kept.eom.system.parameters)}
+    q = np.random.default_rng(5).uniform(-2, 2, (9, 3))
+    batch = kept.M(q, params)
+    assert len(made) == 1
+    np.testing.assert_allclose(batch, [kept.M(qk, params) for qk in q], rtol=1e-14, atol=1e-14)
+
+
+def test_functions_swept_from_this_process_are_kept_only_while_they_are_held():
+    """`eg.sweep` runs a chunk in this process with the functions it was given, not copies: it finds them
+    by their model's token as long as they are held, and keeps nothing of them once they are dropped."""
+    from eomgen.sweep import model as swept
+
+    f = eg.codegen(eg.derive(spatial_arm_3dof()))
+    model = swept(f)
+    assert model.functions() is f
+    held = [weakref.ref(x) for x in (f, f.eom)]
     del f
     gc.collect()
     assert [ref() for ref in held] == [None] * len(held)

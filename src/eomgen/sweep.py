@@ -14,6 +14,7 @@ import os
 import pickle
 import threading
 import uuid
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from functools import cached_property
@@ -27,7 +28,8 @@ from .numeric.parameters import BoundParameters
 from .progress import progress as bar
 from .state import random_states
 
-_built: dict[str, object] = {}  # the functions each process has rebuilt, by Model.token
+_built: dict[str, object] = {}  # the functions a worker process rebuilt, by Model.token, for later chunks
+_given = weakref.WeakValueDictionary()  # the functions swept from this process, by Model.token, while held
 _clients: dict[str, object] = {}  # the clients sweep started, by cluster address ("" for its own)
 SLICE = 1024  # the states of a chunk evaluated and reduced at a time: their outputs stay in the cache
 ASSOCIATIVE = (np.add, np.multiply, np.maximum, np.minimum, np.fmax, np.fmin, np.logaddexp, np.logaddexp2,
@@ -72,7 +74,11 @@ class Model:
         return hashlib.sha256(pickle.dumps((self.equations, self.backend, self.bound))).hexdigest()
 
     def functions(self):
-        """The functions, built once per process."""
+        """The functions: those swept from this process while they are held, else built once per
+        process."""
+        given = _given.get(self.token)
+        if given is not None:
+            return given
         if self.token not in _built:
             f = codegen(pickle.loads(self.equations), self.backend)
             _built[self.token] = f if self.bound is None else f.bind(self.bound)
@@ -93,7 +99,7 @@ def model(functions) -> Model:
     bound = None if not isinstance(p, BoundParameters) else \
         {n: float(v) for k, (n, v) in enumerate(zip(p.names, p.bound)) if k not in p.state}
     m = Model(pickle.dumps(equations), backend, bound)
-    _built.setdefault(m.token, functions)  # a chunk run in this process uses them as they are
+    _given.setdefault(m.token, functions)  # a chunk run in this process uses them as they are
     return m
 
 

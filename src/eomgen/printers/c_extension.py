@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+import weakref
 from collections.abc import Callable
 
 from ..errors import ModelError
@@ -75,16 +76,33 @@ def extension_functions(written: list, nq: int, nv: int, n_params: int,
     else:
         module = build(functions, nq, nv, n_params)
 
-    def attach() -> None:  # on the first batch
+    if lanes is not None:
+        module._hook(first_batch(module, lanes, nq, nv, n_params))
+    return {key: Generated(source, shape, ops, getattr(module, f"m{i}"), getattr(module, f"v{i}"), lanes)
+            for i, (key, source, shape, ops, _) in enumerate(written)}
+
+
+_waiting: dict[str, set[weakref.ref]] = {}  # by module name: its vector printings, until it has lanes
+
+
+def first_batch(module, lanes: Callable[[], list[str | None]], nq: int, nv: int, n_params: int):
+    """The hook of `module` (`_hook`): on its first batch, the vector functions of `lanes` attached. The
+    module, cached for the process, holds its hook: the hook holds `lanes` by weak reference (the module's
+    `Generated` hold it), so dropped functions free their equations. Every codegen of the same module
+    queues its own: whichever is still alive prints (their C is the same)."""
+    waiting = _waiting.setdefault(module.__name__, set())
+    waiting.add(weakref.ref(lanes, waiting.discard))
+
+    def attach() -> None:
+        live = next((f for f in (ref() for ref in waiting) if f is not None), None)
+        waiting.clear()
+        if live is None:  # no function of the module is left to run a batch
+            return
         try:
-            module._attach(lanes_module(lanes(), nq, nv, n_params).lanes)
+            module._attach(lanes_module(live(), nq, nv, n_params).lanes)
         except ModelError as error:  # the compiler refuses vector types: one state at a time
             warnings.warn(f"batches run one state at a time: {error}", stacklevel=3)
-
-    if lanes is not None:
-        module._hook(attach)
-    return {key: Generated(source, shape, ops, getattr(module, f"m{i}"), getattr(module, f"v{i}"))
-            for i, (key, source, shape, ops, _) in enumerate(written)}
+    return attach
 
 
 def lanes_module(sources: list[str | None], nq: int, nv: int, n_params: int):

@@ -17,7 +17,7 @@ from __future__ import annotations
 import itertools
 import re
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import reduce
 
 import sympy as sp
@@ -311,6 +311,9 @@ class Generated:
     ops: int
     function: Callable
     vector: Callable | None = None  # compiled: the column output as a vector
+    # what its module reads later by weak reference, kept alive with it (compiled: the printing of its
+    # vector function, on the first batch)
+    kept: object = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         self.params_used = frozenset(reads(self.source)["p"])
