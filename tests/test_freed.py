@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import gc
 import weakref
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -61,15 +62,53 @@ def test_dropped_c_functions_free_their_equations_and_the_kept_ones_still_batch_
     np.testing.assert_allclose(batch, [kept.M(qk, params) for qk in q], rtol=1e-14, atol=1e-14)
 
 
-def test_functions_swept_from_this_process_are_kept_only_while_they_are_held():
-    """`eg.sweep` runs a chunk in this process with the functions it was given, not copies: it finds them
-    by their model's token as long as they are held, and keeps nothing of them once they are dropped."""
+def test_the_first_batch_hook_survives_a_collection_that_frees_a_queued_printing(monkeypatch):
+    """A dropped codegen of the module, left in a reference cycle, may be freed by a collection that the
+    hook's own allocations start: the hook still attaches the kept one's vector functions (iterating the
+    queue while it shrank raised, and left every later batch one state at a time)."""
+    from eomgen.printers import c_extension
+
+    class Module:
+        def __init__(self, name: str) -> None:
+            self.__name__, self.attached = name, False
+
+        def _attach(self, lanes) -> None:
+            self.attached = True
+
+    monkeypatch.setattr(c_extension, "lanes_module", lambda *args: SimpleNamespace(lanes=None))
+    threshold = gc.get_threshold()
+    try:
+        for young in range(60):  # a collection at each point of the hook in turn
+            module, kept = Module(f"eomgen_hook_{young}"), (lambda: [])
+            gc.collect(0)  # the young generation counted from here
+            attach = c_extension.first_batch(module, kept, 1, 1, 0)
+            dropped = lambda: []  # noqa: E731
+            dropped.cycle = dropped
+            c_extension.first_batch(module, dropped, 1, 1, 0)
+            del dropped
+            gc.set_threshold(young)
+            attach()
+            gc.set_threshold(*threshold)
+            assert module.attached, young
+    finally:
+        gc.set_threshold(*threshold)
+
+
+def test_functions_swept_from_this_process_are_kept_while_their_sweep_is():
+    """`eg.sweep` runs a chunk in this process with the functions it was given, not copies, as long as
+    its tasks are held (a task copied in this process finds them by their model's token), and keeps
+    nothing of them once the tasks are dropped."""
+    import pickle
+
     from eomgen.sweep import model as swept
 
     f = eg.codegen(eg.derive(spatial_arm_3dof()))
     model = swept(f)
-    assert model.functions() is f
     held = [weakref.ref(x) for x in (f, f.eom)]
     del f
+    gc.collect()
+    assert model.functions() is held[0]()
+    assert pickle.loads(pickle.dumps(model)).functions() is held[0]()
+    del model
     gc.collect()
     assert [ref() for ref in held] == [None] * len(held)

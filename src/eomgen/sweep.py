@@ -16,7 +16,7 @@ import threading
 import uuid
 import weakref
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -28,7 +28,7 @@ from .numeric.parameters import BoundParameters
 from .progress import progress as bar
 from .state import random_states
 
-_built: dict[str, object] = {}  # the functions a worker process rebuilt, by Model.token, for later chunks
+_built: dict[str, object] = {}  # the functions this process rebuilt, by Model.token, for later chunks
 _given = weakref.WeakValueDictionary()  # the functions swept from this process, by Model.token, while held
 _clients: dict[str, object] = {}  # the clients sweep started, by cluster address ("" for its own)
 SLICE = 1024  # the states of a chunk evaluated and reduced at a time: their outputs stay in the cache
@@ -63,20 +63,24 @@ class RandomChunks:
 @dataclass(frozen=True)
 class Model:
     """What a worker needs to rebuild the functions: the pickled equations, the backend, the bound
-    parameter values ({name: value}, or None)."""
+    parameter values ({name: value}, or None); and, never pickled, the functions swept (`local`)."""
 
     equations: bytes
     backend: str
     bound: dict | None
+    local: object = field(default=None, compare=False, repr=False)
+
+    def __getstate__(self) -> dict:
+        return {k: v for k, v in self.__dict__.items() if k != "local"}
 
     @cached_property
     def token(self) -> str:
         return hashlib.sha256(pickle.dumps((self.equations, self.backend, self.bound))).hexdigest()
 
     def functions(self):
-        """The functions: those swept from this process while they are held, else built once per
-        process."""
-        given = _given.get(self.token)
+        """The functions swept, in the process that swept them (held by the sweep's tasks; found by token
+        where a task is a copy), else built once per process."""
+        given = self.local if self.local is not None else _given.get(self.token)
         if given is not None:
             return given
         if self.token not in _built:
@@ -98,7 +102,7 @@ def model(functions) -> Model:
     p = functions.parameters
     bound = None if not isinstance(p, BoundParameters) else \
         {n: float(v) for k, (n, v) in enumerate(zip(p.names, p.bound)) if k not in p.state}
-    m = Model(pickle.dumps(equations), backend, bound)
+    m = Model(pickle.dumps(equations), backend, bound, functions)
     _given.setdefault(m.token, functions)  # a chunk run in this process uses them as they are
     return m
 

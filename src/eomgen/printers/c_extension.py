@@ -82,24 +82,24 @@ def extension_functions(written: list, nq: int, nv: int, n_params: int,
             for i, (key, source, shape, ops, _) in enumerate(written)}
 
 
-_waiting: dict[str, set[weakref.ref]] = {}  # by module name: its vector printings, until it has lanes
+_waiting: dict[str, weakref.WeakSet] = {}  # by module name: the printings of its vector functions queued
 
 
 def first_batch(module, lanes: Callable[[], list[str | None]], nq: int, nv: int, n_params: int):
-    """The hook of `module` (`_hook`): on its first batch, the vector functions of `lanes` attached. The
-    module, cached for the process, holds its hook: the hook holds `lanes` by weak reference (the module's
-    `Generated` hold it), so dropped functions free their equations. Every codegen of the same module
-    queues its own: whichever is still alive prints (their C is the same)."""
-    waiting = _waiting.setdefault(module.__name__, set())
-    waiting.add(weakref.ref(lanes, waiting.discard))
+    """The hook of `module` (`_hook`): on its first batch, the vector functions of a printing queued for
+    it attached. The module, cached for the process, holds its hook; the queue holds `lanes` weakly (the
+    module's `Generated` hold it), so dropped functions free their equations. Each codegen of the module
+    queues its printing: whichever is still alive prints (their C is the same)."""
+    waiting = _waiting.setdefault(module.__name__, weakref.WeakSet())
+    waiting.add(lanes)
 
     def attach() -> None:
-        live = next((f for f in (ref() for ref in waiting) if f is not None), None)
+        alive = list(waiting)  # a collection or another thread may drop one while this runs
         waiting.clear()
-        if live is None:  # no function of the module is left to run a batch
+        if not alive:  # no function of the module is left to run a batch
             return
         try:
-            module._attach(lanes_module(live(), nq, nv, n_params).lanes)
+            module._attach(lanes_module(alive[0](), nq, nv, n_params).lanes)
         except ModelError as error:  # the compiler refuses vector types: one state at a time
             warnings.warn(f"batches run one state at a time: {error}", stacklevel=3)
     return attach

@@ -311,8 +311,8 @@ class Generated:
     ops: int
     function: Callable
     vector: Callable | None = None  # compiled: the column output as a vector
-    # what its module reads later by weak reference, kept alive with it (compiled: the printing of its
-    # vector function, on the first batch)
+    # what its module reads later by weak reference, kept alive with it (compiled: the printing of the
+    # module's vector functions, on its first batch)
     kept: object = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
