@@ -76,7 +76,8 @@ def test_the_first_batch_hook_survives_a_collection_that_frees_a_queued_printing
             self.attached = True
 
     monkeypatch.setattr(c_extension, "lanes_module", lambda *args: SimpleNamespace(lanes=None))
-    threshold = gc.get_threshold()
+    threshold, enabled = gc.get_threshold(), gc.isenabled()
+    gc.enable()
     try:
         for young in range(60):  # a collection at each point of the hook in turn
             module, kept = Module(f"eomgen_hook_{young}"), (lambda: [])
@@ -92,6 +93,8 @@ def test_the_first_batch_hook_survives_a_collection_that_frees_a_queued_printing
             assert module.attached, young
     finally:
         gc.set_threshold(*threshold)
+        if not enabled:
+            gc.disable()
 
 
 def test_functions_swept_from_this_process_are_kept_while_their_sweep_is():
