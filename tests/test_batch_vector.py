@@ -257,6 +257,32 @@ def test_vector_functions_that_do_not_compile_leave_the_scalar_loop(tmp_path, mo
     np.testing.assert_allclose(fc.nle(q, u, params), fn.nle(q, u, params), rtol=1e-13, atol=1e-13)
 
 
+def test_a_first_batch_interrupted_while_printing_tries_again_on_the_next(monkeypatch):
+    """Ctrl-C while the first batch prints the vector functions: the batch raises KeyboardInterrupt, and
+    the next batch prints them (once) and runs in lanes (it ran one state at a time for good before)."""
+    from eomgen.printers import c_extension
+
+    calls = []
+
+    def interrupted_once(*args, real=c_extension.lanes_module):
+        calls.append(args)
+        if len(calls) == 1:
+            raise KeyboardInterrupt
+        return real(*args)
+
+    monkeypatch.setattr(c_extension, "lanes_module", interrupted_once)
+    system, _ = cart_pendulum()
+    fc = eg.codegen(eg.derive(system), backend="c")
+    params = {"m_c": 1.5, "m_p": 0.25, "l": 0.6, "g": 9.81}
+    q, _, _ = eg.random_states(system, 11, np.random.default_rng(37))
+    with pytest.raises(KeyboardInterrupt):
+        fc.M(q, params)
+    M = fc.M(q, params)
+    fc.M(q, params)
+    assert len(calls) == 2
+    np.testing.assert_allclose(M, [fc.M(qk, params) for qk in q], rtol=1e-14, atol=1e-14)
+
+
 def test_sin_and_cos_of_a_parameter_in_vector_registers(tmp_path, monkeypatch):
     """A placement turned by a symbolic angle φ: the vector functions read sin φ and cos φ of the
     parameter lanes; they compile (no fallback warning) and the batch equals Pinocchio's crba with

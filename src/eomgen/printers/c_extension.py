@@ -95,13 +95,16 @@ def first_batch(module, lanes: Callable[[], list[str | None]], nq: int, nv: int,
 
     def attach() -> None:
         alive = list(waiting)  # a collection or another thread may drop one while this runs
-        waiting.clear()
         if not alive:  # no function of the module is left to run a batch
             return
         try:
             module._attach(lanes_module(alive[0](), nq, nv, n_params).lanes)
         except ModelError as error:  # the compiler refuses vector types: one state at a time
             warnings.warn(f"batches run one state at a time: {error}", stacklevel=3)
+        except BaseException:  # interrupted (Ctrl-C while printing): the next batch tries again
+            module._hook(attach)
+            raise
+        waiting.clear()
     return attach
 
 
