@@ -2,9 +2,9 @@
 
 Build: sphinx-build -W --keep-going -b html docs docs/_build/html
 The API reference is read from the source tree (src/), and the notebooks in notebooks/ are executed
-at every build with the same source (PYTHONPATH is set for their kernels, and EOMGEN_PROGRESS=0: no
-progress bars in the stored outputs). MathJax is served from the build (sphinx-mathjax-offline), so the
-pages typeset their math without a network."""
+at every build, in parallel, with the same source (PYTHONPATH is set for their kernels, and
+EOMGEN_PROGRESS=0: no progress bars in the stored outputs). MathJax is served from the build
+(sphinx-mathjax-offline), so the pages typeset their math without a network."""
 import os
 import sys
 from pathlib import Path
@@ -18,6 +18,7 @@ os.environ["PYTHONPATH"] = os.pathsep.join(p for p in (str(SRC), os.environ.get(
 os.environ["EOMGEN_PROGRESS"] = "0"  # a bar the kernel shows would be stored in the page
 
 import eomgen  # noqa: E402
+from notebooks_run import run_notebooks  # noqa: E402
 
 project = "eomgen"
 author = "the eomgen authors"
@@ -43,10 +44,13 @@ myst_heading_anchors = 3
 myst_update_mathjax = False  # MathJax reads the whole page (no mathjax_ignore): outputs' math included
 
 # --- notebooks (myst-nb): executed at every build, an error fails it --------------------------
-nb_execution_mode = "force"
+# all of them run afresh here, in parallel, into the build's cache that myst-nb reads (notebooks_run)
+nb_execution_mode = "cache"
+nb_execution_cache_path = str(DOCS / "_build" / ".jupyter_cache")
 nb_execution_raise_on_error = True
 nb_execution_show_tb = True
 nb_execution_timeout = 600
+run_notebooks(DOCS / "notebooks", Path(nb_execution_cache_path), nb_execution_timeout)
 nb_kernel_rgx_aliases = {".*": "python3"}
 nb_merge_streams = True
 nb_render_markdown_format = "myst"  # outputs' Markdown (eg.solution): tables, $$ math with its \\ kept
