@@ -18,7 +18,6 @@ os.environ["PYTHONPATH"] = os.pathsep.join(p for p in (str(SRC), os.environ.get(
 os.environ["EOMGEN_PROGRESS"] = "0"  # a bar the kernel shows would be stored in the page
 
 import eomgen  # noqa: E402
-from notebooks_run import run_notebooks  # noqa: E402
 
 project = "eomgen"
 author = "the eomgen authors"
@@ -32,6 +31,7 @@ extensions = [
     "sphinx.ext.mathjax",
     "sphinx-mathjax-offline",  # MathJax 3 copied into _static/mathjax: no CDN
     "eomgen_docs",
+    "notebooks_run",  # the notebooks run in parallel before the pages are read
 ]
 
 root_doc = "index"
@@ -44,13 +44,10 @@ myst_heading_anchors = 3
 myst_update_mathjax = False  # MathJax reads the whole page (no mathjax_ignore): outputs' math included
 
 # --- notebooks (myst-nb): executed at every build, an error fails it --------------------------
-# all of them run afresh here, in parallel, into the build's cache that myst-nb reads (notebooks_run)
-nb_execution_mode = "cache"
-nb_execution_cache_path = str(DOCS / "_build" / ".jupyter_cache")
+nb_execution_mode = "force"  # notebooks_run: all of them run first, in parallel; myst-nb reads their outputs
 nb_execution_raise_on_error = True
 nb_execution_show_tb = True
 nb_execution_timeout = 600
-run_notebooks(DOCS / "notebooks", Path(nb_execution_cache_path), nb_execution_timeout)
 nb_kernel_rgx_aliases = {".*": "python3"}
 nb_merge_streams = True
 nb_render_markdown_format = "myst"  # outputs' Markdown (eg.solution): tables, $$ math with its \\ kept
