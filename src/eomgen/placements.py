@@ -42,10 +42,10 @@ class Placements(dict):
         if body not in self._known:
             raise KeyError(body)
         path = []
-        while body is not None and not dict.__contains__(self, body):
+        while body is not None and body not in self:
             path.append(body)
             body = body.parent
-        world = None if body is None else dict.__getitem__(self, body)
+        world = None if body is None else self[body]
         for body in reversed(path):
             world = self[body] = place(self.sub, body, world)
         return world
